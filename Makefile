@@ -1,0 +1,86 @@
+# airwake — setup, build, tests, benchmarks and the demo, from a fresh Debian 12 machine.
+# Every target installs what it needs (`setup`): Debian packages with apt-get when
+# missing, then a Python venv with the package installed editable.
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+AIRWAKE := $(VENV)/bin/airwake
+VENV_STAMP := $(VENV)/.installed
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+# arm-none-eabi toolchain for the Teensy images, valgrind for instruction counts,
+# teensy-loader-cli for `make flash`.
+APT_PACKAGES := gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi \
+                valgrind teensy-loader-cli gcc
+PYTEST_ARGS ?= -n 2
+BOARD ?=
+
+.PHONY: help setup apt venv gen test test-c test-py firmware native flash bench lint demo sim clean
+
+help:
+	@echo "make demo      SIL ship-airwake flight -> recording -> model report"
+	@echo "make test      everything CI runs: C tests (ASan/UBSan) and pytest"
+	@echo "make firmware  Teensy 3.2 images for every board (build/teensy32)"
+	@echo "make native    native (SIL) board executables (build/native)"
+	@echo "make flash BOARD=losa   flash one board with teensy_loader_cli"
+	@echo "make bench     performance figures (airwake bench --json)"
+	@echo "make gen       regenerate protocol code, docs and vectors"
+	@echo "make lint      ruff"
+
+setup: apt venv
+
+apt:
+	@missing=""; for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "setup: installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+
+venv: $(VENV_STAMP)
+
+$(VENV_STAMP): pyproject.toml
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[dev]'
+	@touch $@
+
+gen: setup
+	$(PY) protocol/codegen/generate.py
+
+test: setup test-c test-py
+
+test-c: apt
+	$(MAKE) -C firmware test
+
+test-py: venv native
+	$(PY) -m pytest $(PYTEST_ARGS)
+
+firmware: apt
+	$(MAKE) -C firmware teensy32
+
+native: apt
+	$(MAKE) -C firmware native
+
+flash: firmware
+	@test -n "$(BOARD)" || { echo "usage: make flash BOARD=losa|marker|rover|base"; exit 2; }
+	@test -f build/teensy32/$(BOARD).hex || { echo "no image build/teensy32/$(BOARD).hex"; exit 2; }
+	teensy_loader_cli --mcu=mk20dx256 -w -v build/teensy32/$(BOARD).hex
+
+bench: setup native
+	$(AIRWAKE) bench --json
+
+lint: venv
+	$(VENV)/bin/ruff check host hil_sim tests protocol
+
+demo: setup native
+	@if [ -x demo/run.sh ]; then demo/run.sh; else \
+	  echo "make demo: not wired yet (the SIL flight + report arrives with the daemon work)"; fi
+
+clean:
+	rm -rf build

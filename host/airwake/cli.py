@@ -1,0 +1,79 @@
+"""The `airwake` command: a thin dispatcher over the areas' own sub-commands.
+
+Each area registers its sub-commands in a module named `commands` that defines
+`register(subparsers)` (e.g. `airwake/link/commands.py` adds `decode`,
+`hil_sim/commands.py` adds `sim`). Adding a command never edits this file.
+`commands` modules must import only argparse-level things at module scope: heavy
+imports (numpy, torch, scipy) go inside the handlers so `airwake --help` is fast.
+
+A handler is stored with `parser.set_defaults(func=handler)`; it receives the
+parsed namespace and returns an exit status (or None for 0).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import pkgutil
+import sys
+from collections.abc import Sequence
+
+import airwake
+from airwake.errors import AirwakeError
+
+# Packages outside `airwake` that contribute commands.
+_EXTRA_COMMAND_MODULES = ("hil_sim.commands",)
+
+
+def _command_modules() -> list[str]:
+    names = []
+    for info in pkgutil.iter_modules(airwake.__path__):
+        if info.ispkg and importlib.util.find_spec(f"airwake.{info.name}.commands"):
+            names.append(f"airwake.{info.name}.commands")
+    names.append("airwake.bench")
+    for name in _EXTRA_COMMAND_MODULES:
+        try:
+            if importlib.util.find_spec(name):
+                names.append(name)
+        except ModuleNotFoundError:
+            pass
+    return sorted(names)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="airwake",
+        description="airwake: RC-helicopter ship-airwake sensing — firmware link, "
+        "recording, simulation and analysis.",
+    )
+    parser.add_argument("--version", action="version", version=f"airwake {airwake.__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in _command_modules():
+        importlib.import_module(name).register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    func = getattr(args, "func", None)
+    if func is None:
+        # A command group given without its sub-command: show that group's help.
+        (getattr(args, "_group_parser", None) or parser).print_help(sys.stderr)
+        return 2
+    try:
+        status = func(args)
+    except AirwakeError as exc:
+        print(f"airwake {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"airwake {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    return 0 if status is None else int(status)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
