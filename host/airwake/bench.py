@@ -1,7 +1,8 @@
 """`airwake bench`: the performance figures of every area in one JSON object.
 
 Each area contributes a module named `bench` (`airwake/<area>/bench.py`,
-`hil_sim/bench.py`) with
+`hil_sim/bench.py`, and `firmware/bench/bench.py` loaded by path from the source tree)
+with
 
     SECTION = "link"                      # short name for --only
     def run(quick: bool) -> dict          # figures, keys as in ARCHITECTURE.md
@@ -21,10 +22,14 @@ import pkgutil
 import sys
 import time
 import traceback
+from pathlib import Path
 
 import airwake
 
 _EXTRA_BENCH_MODULES = ("hil_sim.bench",)
+# Bench modules that live outside the Python packages, relative to the repository root.
+_REPO_BENCH_FILES = ("firmware/bench/bench.py",)
+_REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 def bench_modules() -> list[str]:
@@ -39,13 +44,25 @@ def bench_modules() -> list[str]:
                 names.append(name)
         except ModuleNotFoundError:
             pass
-    return sorted(names)
+    names.sort()
+    names += [str(_REPO_ROOT / rel) for rel in _REPO_BENCH_FILES if (_REPO_ROOT / rel).is_file()]
+    return names
+
+
+def _load(name: str):
+    if name.endswith(".py"):
+        label = f"_airwake_bench_{Path(name).parent.name}"
+        spec = importlib.util.spec_from_file_location(label, name)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+    return importlib.import_module(name)
 
 
 def run_all(only: list[str] | None, quick: bool, log=sys.stderr) -> dict:
     figures: dict = {}
     for name in bench_modules():
-        module = importlib.import_module(name)
+        module = _load(name)
         section = getattr(module, "SECTION", name.split(".")[-2])
         if only and section not in only:
             continue
