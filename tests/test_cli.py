@@ -19,7 +19,7 @@ def test_version_flag_prints_package_version(capsys):
 def test_console_script_runs_in_a_fresh_process():
     # the installed entry point must import without side effects (no torch at import time)
     out = subprocess.run(
-        [sys.executable, "-c", "import sys; from airwake.cli import main; sys.exit(main(['--help']))"],
+        [sys.executable, "-c", "import sys, airwake.cli as c; sys.exit(c.main(['--help']))"],
         capture_output=True, text=True, check=True,
     )
     assert "bench" in out.stdout
