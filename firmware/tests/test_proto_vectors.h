@@ -1,5 +1,5 @@
 /* generated from protocol/messages by protocol/codegen — do not edit */
-/* Golden vectors (protocol/vectors/*.json) as C data for test_proto_vectors.c. */
+/* Golden vectors (protocol/vectors/, JSON) as C data for test_proto_vectors.c. */
 #ifndef TEST_PROTO_VECTORS_H
 #define TEST_PROTO_VECTORS_H
 

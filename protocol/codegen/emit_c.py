@@ -289,7 +289,7 @@ def _c_bytes(data: bytes) -> str:
 def vectors_header(frames: list[dict], streams: list[dict], by_name: dict[str, Message],
                    py_values: dict[str, dict]) -> str:
     out = [BANNER, textwrap.dedent("""\
-        /* Golden vectors (protocol/vectors/*.json) as C data for test_proto_vectors.c. */
+        /* Golden vectors (protocol/vectors/, JSON) as C data for test_proto_vectors.c. */
         #ifndef TEST_PROTO_VECTORS_H
         #define TEST_PROTO_VECTORS_H
 
