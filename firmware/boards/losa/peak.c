@@ -55,6 +55,61 @@ static int wls_line(const wls_sums_t *s, int rising, float *m, float *a)
     return 1;
 }
 
+/* Intersection of the left (rising) and right (falling) WLS lines, x relative to the
+ * window centre; 0 when either fit is degenerate. */
+static int lines_intersection(const wls_sums_t *left, const wls_sums_t *right, float *xs)
+{
+    float m1, a1, m2, a2;
+    if (!wls_line(left, 1, &m1, &a1) || !wls_line(right, 0, &m2, &a2)) {
+        return 0;
+    }
+    *xs = (a2 - a1) / (m1 - m2); /* m1 > 0 > m2 */
+    return 1;
+}
+
+/* A clipped peak: its flanks' lines would have to be extrapolated far above the data
+ * (poorly conditioned on curved flanks, ~0.5 px errors). Instead: the midpoint of the
+ * two flanks' crossings of one level, half-way between the background and the lower of
+ * the two unclipped pixels next to the run, each crossing interpolated between the two
+ * pixels that straddle it. Returns 0 when a flank is missing (run at the array end or
+ * capped). Absolute pixel coordinates. */
+static int saturated_centre(const uint16_t px[LOSA_PIXELS], int run_lo, int run_hi, uint16_t sat, uint16_t bg,
+                            float *xs)
+{
+    if (run_lo == 0 || run_hi == LOSA_PIXELS - 1) {
+        return 0;
+    }
+    const uint16_t lt = clamp_px(px[run_lo - 1]);
+    const uint16_t rt = clamp_px(px[run_hi + 1]);
+    const uint16_t top = lt < rt ? lt : rt;
+    if (lt >= sat || rt >= sat || top <= bg) {
+        return 0;
+    }
+    const float level = (float)bg + 0.5f * (float)(top - bg);
+    int k = run_lo - 1;
+    while (k > 0 && (float)clamp_px(px[k]) >= level) {
+        k--;
+    }
+    const float yl0 = (float)clamp_px(px[k]);
+    const float yl1 = (float)clamp_px(px[k + 1]);
+    if (yl0 >= level) {
+        return 0;
+    }
+    const float xl = (float)k + (level - yl0) / (yl1 - yl0);
+    k = run_hi + 1;
+    while (k < LOSA_PIXELS - 1 && (float)clamp_px(px[k]) >= level) {
+        k++;
+    }
+    const float yr0 = (float)clamp_px(px[k]);
+    const float yr1 = (float)clamp_px(px[k - 1]);
+    if (yr0 >= level) {
+        return 0;
+    }
+    const float xr = (float)k - (level - yr0) / (yr1 - yr0);
+    *xs = 0.5f * (xl + xr);
+    return 1;
+}
+
 void losa_peak_find(const losa_peak_cfg_t *cfg, const uint16_t px[LOSA_PIXELS], losa_peak_t *out)
 {
     const uint16_t sat = cfg->sat_level ? clamp_px(cfg->sat_level) : 1u;
@@ -145,14 +200,18 @@ void losa_peak_find(const losa_peak_cfg_t *cfg, const uint16_t px[LOSA_PIXELS], 
         wls_add(&right, x, y * (Q8 - m_left), y);
     }
 
-    float m1, a1, m2, a2;
-    if (wls_line(&left, 1, &m1, &a1) && wls_line(&right, 0, &m2, &a2)) {
-        const float xs = (a2 - a1) / (m1 - m2); /* m1 > 0 > m2 */
-        if (xs >= (float)(lo - centre) - 0.5f && xs <= (float)(hi - centre) + 0.5f) {
-            out->pos_px = (float)centre + xs;
-            out->flags = flags;
-            return;
-        }
+    float pos = 0.0f;
+    int ok;
+    if (flags & LOSA_PEAK_SATURATED) {
+        ok = saturated_centre(px, run_lo, run_hi, sat, bg, &pos);
+    } else {
+        ok = lines_intersection(&left, &right, &pos);
+        pos += (float)centre;
+    }
+    if (ok && pos >= (float)lo - 0.5f && pos <= (float)hi + 0.5f) {
+        out->pos_px = pos;
+        out->flags = flags;
+        return;
     }
     out->pos_px = (float)centre + (float)c_q8 / (float)Q8;
     out->flags = flags | LOSA_PEAK_CENTROID;

@@ -11,6 +11,11 @@
  *   4. each group is fitted with a weighted least-squares line (weights = intensity x
  *      group membership; saturated pixels are clipped, not on the flank: weight 0);
  *   5. peak = intersection of the two lines.
+ * A clipped (saturated) top is different: its flanks are short and curved, and their
+ * lines meet far above the data. There the peak is the midpoint of the two flanks'
+ * crossings of one level (half-way up the lower unclipped flank pixel), interpolated
+ * between the pixels that straddle it. When a method cannot apply (a flank missing at
+ * the array end, degenerate fit) the weighted mean is used and flagged.
  * Integer sums (int64) over the window; only the final 2x2 solves are float.
  *
  * Coordinates: pixel k covers [k - 0.5, k + 0.5], so positions run from -0.5 to 127.5.
