@@ -570,6 +570,7 @@ typedef struct {
     uint16_t payload_size;
     uint16_t crc_seed;
     uint32_t def_hash;
+    uint16_t struct_size; /* sizeof(aw_<name>_t) */
     const char *name;
 } aw_msg_info_t;
 

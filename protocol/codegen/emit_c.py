@@ -107,6 +107,7 @@ def header(messages: list[Message], links: Links) -> str:
             uint16_t payload_size;
             uint16_t crc_seed;
             uint32_t def_hash;
+            uint16_t struct_size; /* sizeof(aw_<name>_t) */
             const char *name;
         } aw_msg_info_t;
 
@@ -177,7 +178,7 @@ def source(messages: list[Message]) -> str:
     out.append("const aw_msg_info_t aw_msg_table[AW_MSG_COUNT] = {\n")
     for m in messages:
         up = _upper(m.name)
-        out.append(f"    {{AW_ID_{up}, AW_SIZE_{up}, AW_SEED_{up}, AW_HASH_{up}, \"{m.name}\"}},\n")
+        out.append(f"    {{AW_ID_{up}, AW_SIZE_{up}, AW_SEED_{up}, AW_HASH_{up}, sizeof(aw_{m.name}_t), \"{m.name}\"}},\n")
     out.append("};\n\n/* msg id -> row + 1 (0: unknown id) */\nstatic const uint8_t aw_row_of[256] = {\n")
     for i, m in enumerate(messages):
         out.append(f"    [0x{m.id:02X}] = {i + 1},\n")
