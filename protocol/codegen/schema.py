@@ -71,6 +71,8 @@ NAME_RE = re.compile(r"^[a-z][a-z0-9_]*$")
 MESSAGE_KEYS = {"name", "id", "description", "time", "rate_hz", "to", "rate_note", "fields",
                 "frozen_hash"}
 FIELD_KEYS = {"name", "type", "count", "unit", "description", "values", "bits"}
+# Header columns of the host's decoded tables (airwake.link.batch): not payload names.
+RESERVED_FIELD_NAMES = {"byte_offset", "seq", "flags", "origin", "board_time_us"}
 
 
 class SchemaError(Exception):
@@ -212,8 +214,9 @@ def _load_field(raw: dict, where: str) -> Field:
             raise SchemaError(f"{where}: '{key}' missing or not a non-empty string")
     name, ftype, unit = raw["name"], raw["type"], raw["unit"]
     where = f"{where} ('{name}')"
-    if not NAME_RE.match(name):
-        raise SchemaError(f"{where}: name must be snake_case")
+    if not NAME_RE.match(name) or name in RESERVED_FIELD_NAMES:
+        raise SchemaError(f"{where}: name must be snake_case and not one of "
+                          f"{sorted(RESERVED_FIELD_NAMES)}")
     if ftype not in TYPES:
         raise SchemaError(f"{where}: type {ftype!r} unknown; one of {sorted(TYPES)}")
     if unit not in UNIT_SUFFIX:
