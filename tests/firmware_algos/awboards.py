@@ -352,6 +352,8 @@ class RotorSpeed(C.Structure):
         ("have_pulse", C.c_uint8),
         ("agreed", C.c_uint8),
         ("outliers_in_row", C.c_uint8),
+        ("have_early", C.c_uint8),
+        ("early_us", C.c_uint32),
         ("pulses", C.c_uint32),
         ("glitches", C.c_uint32),
         ("missed", C.c_uint32),

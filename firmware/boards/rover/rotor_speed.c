@@ -44,22 +44,40 @@ void rotor_speed_pulse(rotor_speed_t *st, const rotor_speed_cfg_t *cfg, uint32_t
     const uint32_t dt = t_us - st->last_pulse_us; /* wrap-safe */
     if (dt > cfg->max_interval_us) {
         st->last_pulse_us = t_us;
+        st->have_early = 0;
         restart(st);
         return;
     }
     /* dt, estimate <= max_interval_us: the products below cannot overflow */
-    if (dt < cfg->min_interval_us || (st->estimate_us && dt * 10u < st->estimate_us * 7u)) {
-        st->glitches++; /* keep measuring from the last good pulse ... */
-        if (dt >= cfg->min_interval_us && ++st->outliers_in_row >= 3u) {
-            restart(st); /* ... unless the estimate itself is wrong (it locked on a miss) */
-            st->last_pulse_us = t_us;
-        }
+    if (dt < cfg->min_interval_us) {
+        st->glitches++;
         return;
     }
+    if (st->estimate_us && dt * 10u < st->estimate_us * 7u) {
+        st->glitches++; /* early: ignored, the next pulse is measured from the last good one */
+        st->early_us = t_us;
+        st->have_early = 1;
+        return;
+    }
+    const uint32_t prev_pulse = st->last_pulse_us;
     st->last_pulse_us = t_us;
     if (!st->estimate_us) {
         accept(st, dt);
         return;
+    }
+    /* An "early" pulse right in the middle of this interval was a blade: the estimate
+     * locked on twice the real interval (it started across a missed pulse). */
+    if (st->have_early) {
+        st->have_early = 0;
+        const uint32_t first = st->early_us - prev_pulse;
+        const uint32_t gap = first * 2u > dt ? first * 2u - dt : dt - first * 2u;
+        if (gap * 5u < dt) {
+            st->glitches--;
+            restart(st);
+            accept(st, first);
+            accept(st, dt - first);
+            return;
+        }
     }
     /* nearest whole number of half revolutions, within 20 % */
     const uint32_t est = st->estimate_us;
@@ -71,7 +89,7 @@ void rotor_speed_pulse(rotor_speed_t *st, const rotor_speed_cfg_t *cfg, uint32_t
         accept(st, dt / k);
         return;
     }
-    st->glitches++;
+    st->glitches++; /* outlier */
     if (++st->outliers_in_row >= 3u) {
         restart(st);
         accept(st, dt);

@@ -9,8 +9,9 @@
  *   dt ~ k x estimate (k = 2, 3, within 20 %)   -> k - 1 missed pulses, dt / k used
  *   dt > max_interval_us                        -> rotor stopped/lost: restart
  *   otherwise far from the estimate             -> outlier
- * Three outliers or estimate-relative glitches in a row mean the estimate is wrong
- * (e.g. it started on a missed pulse): it restarts from the new rate.
+ * Three outliers in a row mean the rate really changed: the estimate restarts from
+ * it. An "early" pulse that splits the next interval in half means the estimate locked
+ * on twice the real interval (it started across a missed pulse): it is halved.
  * Speed is reported from the mean of the last two accepted half-revolution intervals,
  * which cancels the blades' unequal spacing. It is valid once two consecutive
  * intervals agree and until no pulse arrives for max_interval_us.
@@ -33,6 +34,8 @@ typedef struct {
     uint8_t have_pulse;
     uint8_t agreed;            /* two consecutive intervals agreed */
     uint8_t outliers_in_row;
+    uint8_t have_early;
+    uint32_t early_us;         /* last pulse rejected as early */
     uint32_t pulses;           /* counters */
     uint32_t glitches;
     uint32_t missed;
