@@ -142,37 +142,42 @@ class StreamDecoder:
         counts = self.frame_counts
         last_seq = self._last_seq
         lost = self._lost
+        new = tuple.__new__
         for seg in self._split(chunk):
             if not seg:
                 continue
-            if len(seg) > MAX_ENCODED_SIZE:
-                self._reject("oversize", seg)
-                continue
+            raw = None
             try:
                 raw = cobs_decode(seg)
-                entry = table[raw[0]]
-            except (DecodeError, IndexError):
-                self._reject("cobs_error", seg)
+                size, seed, unpack, make = table[raw[0]]
+            except (DecodeError, IndexError, TypeError):  # not COBS, empty, unknown id
+                self._reject_segment(seg, raw)
                 continue
-            if entry is None or len(raw) != entry[0]:
-                self._reject(classify_bad(raw, self.announced), seg)
+            if len(raw) != size or len(seg) > MAX_ENCODED_SIZE:
+                self._reject_segment(seg, raw)
                 continue
-            v = entry[2](raw)
-            if crc_hqx(raw[:-2], entry[1]) != v[-1]:
-                self._reject(classify_bad(raw, self.announced), seg)
+            v = unpack(raw)
+            if crc_hqx(raw[:-2], seed) != v[-1]:
+                self._reject_segment(seg, raw)
                 continue
-            msg_id, seq, flags = v[0], v[1], v[2]
+            msg_id = v[0]
             counts[msg_id] += 1
-            key = (flags & FLAGS_ORIGIN_MASK) << 8 | msg_id
-            last = last_seq[key]
-            if last >= 0 and (seq - last - 1) & 0xFF:
-                lost[key] += (seq - last - 1) & 0xFF
-            last_seq[key] = seq
-            frame = Frame(msg_id, seq, flags, v[3], entry[3](v))
+            key = (v[2] & FLAGS_ORIGIN_MASK) << 8 | msg_id
+            gap = (v[1] - last_seq[key] - 1) & 0xFF
+            if gap and last_seq[key] >= 0:
+                lost[key] += gap
+            last_seq[key] = v[1]
+            frame = new(Frame, (msg_id, v[1], v[2], v[3], make(v)))
             if msg_id < 3:
                 self._control(frame)
             append(frame)
         return out
+
+    def _reject_segment(self, seg: bytes, raw: bytes | None) -> None:
+        if len(seg) > MAX_ENCODED_SIZE:
+            self._reject("oversize", seg)
+        else:
+            self._reject(classify_bad(raw, self.announced), seg)
 
     def _control(self, frame: Frame) -> None:
         origin = frame.flags & FLAGS_ORIGIN_MASK
