@@ -76,7 +76,11 @@ class LosaExposureCfg(C.Structure):
 
 
 class LosaExposureState(C.Structure):
-    _fields_ = [("exposure_us", C.c_uint32), ("saturated_frames", C.c_uint32), ("weak_frames", C.c_uint32)]
+    _fields_ = [
+        ("exposure_us", C.c_uint32),
+        ("saturated_frames", C.c_uint32),
+        ("weak_frames", C.c_uint32),
+    ]
 
 
 class LosaFrameCfg(C.Structure):
@@ -244,7 +248,12 @@ class SbpVelNed(SbpBaselineNed):
 
 
 class SbpGpsTime(C.Structure):
-    _fields_ = [("wn", C.c_uint16), ("tow", C.c_uint32), ("ns_residual", C.c_int32), ("flags", C.c_uint8)]
+    _fields_ = [
+        ("wn", C.c_uint16),
+        ("tow", C.c_uint32),
+        ("ns_residual", C.c_int32),
+        ("flags", C.c_uint8),
+    ]
 
 
 class SbpBaselineEcef(C.Structure):
@@ -463,7 +472,10 @@ _SIGNATURES = {
     "quat_rotate_inv": (None, [Quat, P(C.c_float), P(C.c_float)]),
     "marker_default_cfg": (MarkerCfg, []),
     "marker_init": (None, [P(MarkerState), P(MarkerCfg), C.c_uint32]),
-    "marker_imu_step": (None, [P(MarkerState), P(MarkerCfg), C.c_uint32, P(C.c_float), P(C.c_float)]),
+    "marker_imu_step": (
+        None,
+        [P(MarkerState), P(MarkerCfg), C.c_uint32, P(C.c_float), P(C.c_float)],
+    ),
     "marker_feedback": (None, [P(MarkerState), P(MarkerCfg), C.c_uint32, P(C.c_float)]),
     "marker_output": (None, [P(MarkerState), P(MarkerOutput)]),
     "marker_led_drive": (None, [P(MarkerState), P(C.c_float)]),
