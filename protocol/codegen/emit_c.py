@@ -81,7 +81,8 @@ def header(messages: list[Message], links: Links) -> str:
     out.append("\n")
     for m in messages:
         up = _upper(m.name)
-        out.append(f"/* ---- {m.name} (0x{m.id:02X}){' — frozen layout' if m.frozen else ''} ---- */\n")
+        frozen = " — frozen layout" if m.frozen else ""
+        out.append(f"/* ---- {m.name} (0x{m.id:02X}){frozen} ---- */\n")
         out.append(_comment(m.description))
         out.append(f"#define AW_ID_{up} 0x{m.id:02X}u\n")
         out.append(f"#define AW_SIZE_{up} {m.payload_size}u\n")
@@ -178,8 +179,10 @@ def source(messages: list[Message]) -> str:
     out.append("const aw_msg_info_t aw_msg_table[AW_MSG_COUNT] = {\n")
     for m in messages:
         up = _upper(m.name)
-        out.append(f"    {{AW_ID_{up}, AW_SIZE_{up}, AW_SEED_{up}, AW_HASH_{up}, sizeof(aw_{m.name}_t), \"{m.name}\"}},\n")
-    out.append("};\n\n/* msg id -> row + 1 (0: unknown id) */\nstatic const uint8_t aw_row_of[256] = {\n")
+        out.append(f"    {{AW_ID_{up}, AW_SIZE_{up}, AW_SEED_{up}, AW_HASH_{up}, "
+                   f"sizeof(aw_{m.name}_t), \"{m.name}\"}},\n")
+    out.append("};\n\n/* msg id -> row + 1 (0: unknown id) */\n"
+               "static const uint8_t aw_row_of[256] = {\n")
     for i, m in enumerate(messages):
         out.append(f"    [0x{m.id:02X}] = {i + 1},\n")
     out.append("};\n\n")

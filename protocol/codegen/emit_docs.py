@@ -7,7 +7,6 @@ import textwrap
 from reference import crc16_ccitt_false
 from schema import (
     FRAME_OVERHEAD,
-    ORIGIN_MASK,
     Links,
     Message,
     cobs_max_encoded,
@@ -61,12 +60,13 @@ def _spec(messages: list[Message], links: Links) -> str:
         | 0 | 1 | `msg_id` | message id (table below); 0 is reserved |
         | 1 | 1 | `seq` | sequence number per (origin board, msg_id), +1 per frame, wraps 255→0 |
         | 2 | 1 | `flags` | bits 0–2 origin board id; bits 3–7 reserved: send 0, ignore on receive |
-        | 3 | 4 | `board_time_us` | the origin board's µs clock (wraps every 71.6 min); what instant it stamps is given per message |
+        | 3 | 4 | `board_time_us` | origin board's µs clock, wraps after 71.6 min (see table) |
         | 7 | n | payload | the message's fields in definition order, packed, little-endian |
         | 7+n | 2 | `crc` | CRC-16 (below) over bytes 0 … 6+n, little-endian |
 
         All multi-byte values are little-endian; `f32`/`f64` are IEEE 754 (NaN payloads and
-        −0 travel bit-exact); arrays are consecutive elements. Header + CRC = {FRAME_OVERHEAD} bytes.
+        −0 travel bit-exact); arrays are consecutive elements. Header + CRC = {FRAME_OVERHEAD}
+        bytes.
 
         **COBS** (Consistent Overhead Byte Stuffing): the raw frame is split at its zero
         bytes into blocks; each block is written as a code byte (1 + its length) followed by
@@ -120,11 +120,13 @@ def _spec(messages: list[Message], links: Links) -> str:
         exactly once, in this order (the same rules in C, Python and the reference decoder
         that produced `protocol/vectors/streams.json`):
 
-        1. longer than {cobs_max_encoded(max_raw)} encoded bytes (the longest frame's COBS length) → `oversize`;
-        2. not valid COBS (a code byte pointing past the end) or decoded shorter than {FRAME_OVERHEAD}
-           bytes → `cobs_error`;
+        1. longer than {cobs_max_encoded(max_raw)} encoded bytes (the longest frame's COBS
+           length) → `oversize`;
+        2. not valid COBS (a code byte pointing past the end) or decoded shorter than
+           {FRAME_OVERHEAD} bytes → `cobs_error`;
         3. `msg_id` not in the receiver's schema → `unknown_id`;
-        4. length = {FRAME_OVERHEAD} + payload size and CRC correct with the receiver's seed → **decoded**;
+        4. length = {FRAME_OVERHEAD} + payload size and CRC correct with the receiver's seed →
+           **decoded**;
         5. otherwise, if the origin announced a different definition hash for this id
            (`schema_entry`) and the CRC is correct with *that* hash's seed → `def_mismatch`:
            an intact frame from a different definition, not decoded (its raw bytes stay in
@@ -200,14 +202,15 @@ def _budget(messages: list[Message], links: Links) -> str:
     own = {b: sum(bps for _, _, bps in board_traffic(messages, b)) for b in boards}
     carried = {b: sum(own[x] for x in links.paths[b].get("carries", [b])) for b in boards}
     link_names = list(links.links)
-    out = [textwrap.dedent(f"""\
+    out = [textwrap.dedent("""\
         ## Link budget
 
         Bytes per second each board sends at the nominal rates above, each frame counted at
         its worst-case wire size (COBS overhead ⌈raw/254⌉ plus both 0x00 delimiters), against
         each link's capacity. Assumptions (`protocol/links.toml`):
+
         """)]
-    for name, spec in links.links.items():
+    for spec in links.links.values():
         out.append(f"- **{spec['label']}**: {spec['bytes_per_s']:,} B/s — {spec['note']}.\n")
     out.append("\n### Per board and message\n\n")
     for b in boards:
@@ -220,10 +223,12 @@ def _budget(messages: list[Message], links: Links) -> str:
     out.append("Host → board (the other direction of each full-duplex link): "
                + ", ".join(f"{b} {host_tx[b]:,.0f} B/s" for b in boards) + ".\n\n")
     out.append("### Utilisation of each kind of link\n\n")
-    out.append("| board (traffic) | B/s | " + " | ".join(links.links[n]["label"] for n in link_names)
+    labels = " | ".join(links.links[n]["label"] for n in link_names)
+    out.append(f"| board (traffic) | B/s | {labels}"
                + " |\n|---|---|" + "---|" * len(link_names) + "\n")
     for b in boards:
-        label = b if carried[b] == own[b] else f"{b} (+ {', '.join(x for x in links.paths[b]['carries'] if x != b)} forwarded)"
+        others = [x for x in links.paths[b].get("carries", [b]) if x != b]
+        label = f"{b} (+ {', '.join(others)} forwarded)" if others else b
         cells = [f"{100 * carried[b] / links.links[n]['bytes_per_s']:.1f} %" for n in link_names]
         out.append(f"| {label} | {carried[b]:,.0f} | " + " | ".join(cells) + " |\n")
     out.append("\n### Each board's path to the host (tightest hop in bold)\n\n")
@@ -244,16 +249,31 @@ def _budget(messages: list[Message], links: Links) -> str:
             " — above 50 %: little margin" if loads[worst][1] > 0.5 else "")
         out.append(f"| {b} | {path_note} | {' → '.join(cells)} | "
                    f"{links.links[loads[worst][0]]['label']}{flag} |\n")
-    tightest = max(boards, key=lambda b: max(
-        (own[b] if b != "base" else carried[b]) / links.links[n]["bytes_per_s"]
-        for n in links.paths[b]["links"]))
-    out.append(textwrap.dedent(f"""
-        The tightest board is **{tightest}**. UART 115200 carries none of the boards at the
-        nominal rates except where the table shows < 100 %: LOSA's 320 Hz peaks alone need
-        more than 115200 baud, so the LOSA UART runs at 460800 (or USB CDC); the base's host
-        link carries the rover's frames as well and needs 921600 (or USB CDC).
-        """))
+    out.append("\n" + _conclusion(boards, own, carried, links))
     return "".join(out)
+
+
+def _conclusion(boards: list[str], own: dict, carried: dict, links: Links) -> str:
+    uarts = sorted((spec["bytes_per_s"], name) for name, spec in links.links.items()
+                   if name.startswith("uart_"))
+
+    def slowest_uart(bps: float) -> str:
+        fits = [links.links[n]["label"] for cap, n in uarts if bps <= 0.5 * cap]
+        return fits[0] if fits else "none (use USB CDC)"
+
+    loads = {}
+    for b in boards:
+        traffic = carried[b] if b == "base" else own[b]
+        loads[b] = max(traffic / links.links[n]["bytes_per_s"] for n in links.paths[b]["links"])
+    tightest = max(boards, key=loads.get)
+    fits_slowest = [b for b in boards
+                    if (carried[b] if b == "base" else own[b]) <= uarts[0][0]]
+    slowest = ", ".join(f"{b} {slowest_uart(carried[b] if b == 'base' else own[b])}"
+                        for b in boards)
+    return (f"**Tightest board: {tightest}**, its busiest hop at {100 * loads[tightest]:.1f} % "
+            f"of capacity. Slowest UART keeping each board's own traffic at or below 50 %: "
+            f"{slowest}. Boards whose traffic fits the slowest UART ({uarts[0][1]}) at all: "
+            f"{', '.join(fits_slowest) or 'none'}.\n")
 
 
 def document(messages: list[Message], links: Links) -> str:

@@ -143,7 +143,8 @@ def module(messages: list[Message], links: Links) -> str:
             out.append(f"    {f.name}: {_pytype(f)} = {_default(f)}\n")
         out.append(f"\n\n_S_{up} = Struct({m.payload_format!r})\n")
         out.append(f"_F_{up} = Struct({m.frame_format!r})\n\n\n")
-        out.append(f"def _pack_{n}(m: {c}) -> bytes:\n    return _S_{up}.pack({_flat_args(m)})\n\n\n")
+        out.append(f"def _pack_{n}(m: {c}) -> bytes:\n"
+                   f"    return _S_{up}.pack({_flat_args(m)})\n\n\n")
         if has_arrays:
             picks = ", ".join(_slices(m, 0))
             out.append(f"def _unpack_{n}(b: bytes) -> {c}:\n    v = _S_{up}.unpack(b)\n"

@@ -200,7 +200,8 @@ def _int_keyed(table: dict, where: str) -> dict[int, str]:
     out = {}
     for key, label in table.items():
         if not str(key).isdigit() or not isinstance(label, str) or not NAME_RE.match(label):
-            raise SchemaError(f"{where}: entry {key!r} = {label!r} must be <integer> = \"snake_name\"")
+            raise SchemaError(f"{where}: entry {key!r} = {label!r} must be "
+                              "<integer> = \"snake_name\"")
         out[int(key)] = label
     return dict(sorted(out.items()))
 
@@ -208,7 +209,8 @@ def _int_keyed(table: dict, where: str) -> dict[int, str]:
 def _load_field(raw: dict, where: str) -> Field:
     unknown = set(raw) - FIELD_KEYS
     if unknown:
-        raise SchemaError(f"{where}: unknown key(s) {sorted(unknown)}; allowed {sorted(FIELD_KEYS)}")
+        raise SchemaError(f"{where}: unknown key(s) {sorted(unknown)}; "
+                          f"allowed {sorted(FIELD_KEYS)}")
     for key in ("name", "type", "unit", "description"):
         if not isinstance(raw.get(key), str) or not raw[key]:
             raise SchemaError(f"{where}: '{key}' missing or not a non-empty string")
@@ -241,7 +243,8 @@ def load_message(path: Path, board_names: set[str]) -> Message:
         raise SchemaError(f"{path}: {exc}") from exc
     unknown = set(raw) - MESSAGE_KEYS
     if unknown:
-        raise SchemaError(f"{path}: unknown key(s) {sorted(unknown)}; allowed {sorted(MESSAGE_KEYS)}")
+        raise SchemaError(f"{path}: unknown key(s) {sorted(unknown)}; "
+                          f"allowed {sorted(MESSAGE_KEYS)}")
     for key in ("name", "description", "time"):
         if not isinstance(raw.get(key), str) or not raw[key].strip():
             raise SchemaError(f"{path}: '{key}' missing or empty")
@@ -256,7 +259,8 @@ def load_message(path: Path, board_names: set[str]) -> Message:
         raise SchemaError(f"{path}: [rate_hz] missing: nominal rate per sending board")
     for board, rate in rates.items():
         if board not in board_names:
-            raise SchemaError(f"{path}: rate_hz.{board}: unknown board; one of {sorted(board_names)}")
+            raise SchemaError(f"{path}: rate_hz.{board}: unknown board; "
+                              f"one of {sorted(board_names)}")
         if not isinstance(rate, int | float) or rate < 0:
             raise SchemaError(f"{path}: rate_hz.{board} = {rate!r} must be a number >= 0")
     to = raw.get("to", [])

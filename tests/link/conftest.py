@@ -9,9 +9,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from hypothesis import strategies as st
-
 from airwake.link.messages import MESSAGES, FieldInfo, MessageInfo
+from hypothesis import strategies as st
 
 REPO = Path(__file__).resolve().parents[2]
 LIB = REPO / "build/native/libawproto.so"

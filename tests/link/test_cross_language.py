@@ -5,12 +5,11 @@ from __future__ import annotations
 import ctypes
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from airwake.link.decoder import StreamDecoder
 from airwake.link.framing import encode_frame
 from airwake.link.messages import MAX_PAYLOAD_SIZE, MESSAGES
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from .conftest import MESSAGE_IDS, record_strategy, same_record
 

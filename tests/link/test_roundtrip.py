@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from airwake.link.decoder import StreamDecoder
 from airwake.link.framing import ProtocolError, encode_frame
 from airwake.link.messages import BY_ID, IMU, MESSAGES, Imu
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from .conftest import MESSAGE_IDS, record_strategy, same_record
 

@@ -41,7 +41,7 @@ def synthetic_capture(n_frames: int, seed: int = 1) -> bytes:
     total_rate = sum(rate for _, _, rate in streams)
     duration_s = 1.01 * n_frames / total_rate  # rounding margin; cut to n_frames below
     events = []
-    for k, (m, origin, rate) in enumerate(streams):
+    for k, (_, _, rate) in enumerate(streams):
         n = max(1, round(rate * duration_s))
         phase = rng.random() / rate
         events += [(phase + i / rate, k) for i in range(n)]
@@ -92,8 +92,8 @@ def _mavlink_capture(ours: bytes, n_frames: int) -> tuple[bytes, int]:
         (42, lambda: mav.rc_channels_encode(i(32), 18, *(i(16) for _ in range(18)), 200)),
         (62, lambda: mav.highres_imu_encode(i(64), *(f() for _ in range(13)), i(16))),
         (64, lambda: mav.hil_state_quaternion_encode(
-            i(64), [f() for _ in range(4)], f(), f(), f(), i(31), i(31), i(31), *(i(15) for _ in range(3)),
-            i(16), i(16), *(i(15) for _ in range(3)))),
+            i(64), [f() for _ in range(4)], f(), f(), f(), i(31), i(31), i(31),
+            *(i(15) for _ in range(3)), i(16), i(16), *(i(15) for _ in range(3)))),
     ]
     decoder = StreamDecoder()
     frames = decoder.feed(ours)[:n_frames]
