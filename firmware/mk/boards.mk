@@ -1,12 +1,19 @@
 # boards.mk — which sources make each board, and the HAL/driver/board-wiring C tests.
 #
 # A board is everything in boards/<board>/ (board.c wiring + the algorithm modules)
-# plus the board-independent wiring in boards/*.c, the shared code in common/ and
+# plus the board-independent wiring (boards/board_link.c; nav_ports.c for rover/base), the shared code in common/ and
 # drivers/, and one HAL backend (native.mk, teensy32.mk).
 
 FW_BOARDS := losa marker rover base
-BOARDS_SHARED_SRCS := $(wildcard $(FW)/boards/*.c)
-$(foreach b,$(FW_BOARDS),$(eval BOARD_SRCS_$(b) := $(wildcard $(FW)/boards/$(b)/*.c)))
+BOARDS_SHARED_SRCS := $(FW)/boards/board_link.c
+# code every board links: protocol, ring buffer, quaternions, drivers, board_link
+FW_SHARED_SRCS := $(wildcard $(FW)/common/*.c) $(wildcard $(FW)/drivers/*.c) $(BOARDS_SHARED_SRCS)
+# a board: its wiring (board.c) + the algorithm modules algorithms.mk lists for it
+# (rover and base share the VN200/SBP parsers and PWM capture)
+BOARD_EXTRA_SRCS_rover := $(FW)/boards/nav_ports.c
+BOARD_EXTRA_SRCS_base := $(FW)/boards/nav_ports.c
+$(foreach b,$(FW_BOARDS),$(eval BOARD_SRCS_$(b) := $(FW)/boards/$(b)/board.c \
+  $(BOARD_EXTRA_SRCS_$(b)) $(filter-out $(FW_SHARED_SRCS),$(ALGO_SRCS_$(b)))))
 
 FW_TEST_CFLAGS := $(NATIVE_CFLAGS) $(SANITIZE)
 FW_TEST_INC := -I$(FW)/hal -I$(FW)/hal/native -I$(FW)/common -I$(FW)/drivers -I$(FW)/boards \

@@ -20,7 +20,6 @@ FLAVOUR_LDFLAGS_native :=
 FLAVOUR_LDFLAGS_native-asan := $(SANITIZE)
 
 NATIVE_HAL_SRCS := $(filter-out $(FW)/hal/native/main.c,$(wildcard $(FW)/hal/native/*.c))
-FW_SHARED_SRCS := $(wildcard $(FW)/common/*.c) $(wildcard $(FW)/drivers/*.c) $(BOARDS_SHARED_SRCS)
 NATIVE_SHARED_SRCS := $(FW_SHARED_SRCS) $(NATIVE_HAL_SRCS)
 
 # $(1) flavour: shared objects and the compile rule for everything under firmware/

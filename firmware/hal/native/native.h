@@ -71,10 +71,9 @@ bool chan_end_step(uint64_t now_sim);
 /* Stepped: blocks for the next packet and starts its step. Exits the process
  * (status 0) when the simulator closes the channel. */
 void chan_step(void);
-/* Wall: reads a packet if one is waiting and none is pending; waits at most
- * timeout_ms (with the port fds) when wait is set. Returns true when an input
- * (packet or port bytes) arrived. */
-bool chan_wall_poll(int timeout_ms);
+/* Wall: waits at most timeout_us for a packet (when none is pending) or port
+ * bytes; reads the packet. Returns true when an input arrived. */
+bool chan_wall_poll(uint64_t timeout_us);
 /* Output records (queued, sent at the end of the step or when the buffer fills). */
 void chan_emit(uint8_t type, uint8_t chan, uint64_t t_sim, const void *body, size_t len);
 void chan_flush(void);

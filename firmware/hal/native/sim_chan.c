@@ -4,7 +4,8 @@
  * records, and the stepped-mode handshake (ADVANCE -> ... -> IDLE).
  */
 #include <errno.h>
-#include <poll.h>
+#include <sys/select.h>
+#include <time.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -242,28 +243,30 @@ bool chan_end_step(uint64_t now)
     return rx;
 }
 
-bool chan_wall_poll(int timeout_ms)
+bool chan_wall_poll(uint64_t timeout_us)
 {
-    struct pollfd pfd[1 + HAL_PORT_COUNT];
-    int n = 0;
+    /* pselect, not poll: µs timeouts keep sub-millisecond deadlines (exposure) */
+    fd_set rd;
+    FD_ZERO(&rd);
+    int maxfd = -1;
     bool want_packet = sock >= 0 && rx_pos >= rx_len;
     if (want_packet) {
-        pfd[n].fd = sock;
-        pfd[n].events = POLLIN;
-        n++;
+        FD_SET(sock, &rd);
+        maxfd = sock;
     }
     int port_fds[HAL_PORT_COUNT];
     int nports = uart_poll_fds(port_fds, HAL_PORT_COUNT);
     for (int i = 0; i < nports; i++) {
-        pfd[n].fd = port_fds[i];
-        pfd[n].events = POLLIN;
-        n++;
+        FD_SET(port_fds[i], &rd);
+        maxfd = port_fds[i] > maxfd ? port_fds[i] : maxfd;
     }
-    int r = poll(pfd, (nfds_t)n, timeout_ms);
+    struct timespec ts = {.tv_sec = (time_t)(timeout_us / 1000000u),
+                          .tv_nsec = (long)(timeout_us % 1000000u) * 1000L};
+    int r = pselect(maxfd + 1, &rd, NULL, NULL, &ts, NULL);
     if (r <= 0) {
         return false;
     }
-    if (want_packet && (pfd[0].revents & (POLLIN | POLLHUP | POLLERR))) {
+    if (want_packet && FD_ISSET(sock, &rd)) {
         ssize_t got = recv(sock, rx_buf, sizeof(rx_buf), MSG_DONTWAIT);
         if (got == 0) {
             channel_closed();

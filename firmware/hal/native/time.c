@@ -117,9 +117,7 @@ static void idle_wall(uint64_t until_board_us)
         if (wait_us > 20000u) {
             wait_us = 20000u; /* keep draining transmit rings at least every 20 ms */
         }
-        if (chan_wall_poll((int)((wait_us + 999u) / 1000u))) {
-            continue;
-        }
+        (void)chan_wall_poll(wait_us);
     }
 }
 

@@ -1,0 +1,130 @@
+/* board.c (base) — see board.h. */
+#include "board.h"
+
+#include <string.h>
+
+base_board_t base_board;
+
+static const uint8_t schema_ids[] = {
+    AW_ID_HEARTBEAT, AW_ID_SCHEMA_ENTRY, AW_ID_TIME_SYNC_REQUEST, AW_ID_TIME_SYNC_REPLY,
+    AW_ID_INS,       AW_ID_RTK_POS,      AW_ID_GPS_TIME,          AW_ID_RTK_STATUS,
+    AW_ID_PILOT_INPUTS,
+};
+
+static const hal_capture_t rc_capture[BASE_RC_CHANNELS] = {
+    HAL_CAPTURE_RC1, HAL_CAPTURE_RC2, HAL_CAPTURE_RC3, HAL_CAPTURE_RC4, HAL_CAPTURE_RC5,
+};
+
+static uint64_t tick_us(uint64_t t0, uint32_t k, uint32_t rate_hz)
+{
+    return t0 + ((uint64_t)k * 1000000u + rate_hz - 1u) / rate_hz;
+}
+
+void board_init(const hal_t *hal)
+{
+    base_board_t *b = &base_board;
+    memset(b, 0, sizeof(*b));
+    board_link_init(&b->link, hal, BOARD_ID, HAL_PORT_HOST, schema_ids,
+                    (uint8_t)sizeof(schema_ids), NULL, b);
+    nav_ports_init(&b->nav, hal, &b->link, NAV_STATUS_ONLY);
+    b->rc_cfg = pwm_capture_default_cfg();
+    for (int i = 0; i < BASE_RC_CHANNELS; i++) {
+        pwm_channel_init(&b->rc[i]);
+    }
+    b->t0_us = hal->micros();
+    hal->watchdog_start(BASE_WATCHDOG_MS);
+}
+
+static void forward_segment(forwarder_t *f, const hal_t *hal)
+{
+    f->seg[f->len] = 0x00;
+    size_t n = f->len + 1u;
+    if (hal->uart_write(HAL_PORT_HOST, f->seg, n)) {
+        f->segments++;
+        f->bytes += (uint32_t)(n - 2u);
+    } else {
+        f->dropped_bytes += (uint32_t)(n - 2u);
+    }
+    f->len = 1; /* seg[0] stays the leading 0x00 */
+}
+
+/* Rover bytes -> whole segments between 0x00 delimiters -> host port. */
+static void forward_rover(forwarder_t *f, const hal_t *hal)
+{
+    uint8_t buf[128];
+    size_t got;
+    if (f->len == 0) {
+        f->seg[0] = 0x00;
+        f->len = 1;
+    }
+    while ((got = hal->uart_read(HAL_PORT_ROVER, buf, sizeof(buf))) > 0) {
+        for (size_t i = 0; i < got; i++) {
+            if (buf[i] == 0x00) {
+                if (f->len > 1) {
+                    forward_segment(f, hal);
+                }
+                continue;
+            }
+            f->seg[f->len++] = buf[i];
+            if (f->len == sizeof(f->seg) - 1u) {
+                forward_segment(f, hal); /* longer than any frame: pass it on in pieces */
+            }
+        }
+    }
+}
+
+static void drain_captures(base_board_t *b, const hal_t *hal)
+{
+    hal_edge_t e[16];
+    for (int c = 0; c < BASE_RC_CHANNELS; c++) {
+        size_t n;
+        while ((n = hal->capture_read(rc_capture[c], e, 16)) > 0) {
+            for (size_t i = 0; i < n; i++) {
+                pwm_channel_edge(&b->rc[c], &b->rc_cfg, e[i].t_us, e[i].level);
+            }
+        }
+    }
+}
+
+static void send_pilot_inputs(base_board_t *b, uint32_t now)
+{
+    aw_pilot_inputs_t m = {0};
+    for (int c = 0; c < BASE_RC_CHANNELS; c++) {
+        pwm_channel_out_t o;
+        pwm_channel_get(&b->rc[c], &b->rc_cfg, now, &o);
+        m.pwm_us[c] = o.width_us;
+        m.glitch_count[c] = (uint16_t)o.glitches;
+        if (o.valid) {
+            m.valid_mask |= (uint8_t)(1u << c);
+        }
+    }
+    (void)board_link_send(&b->link, AW_ID_PILOT_INPUTS, &m, now);
+}
+
+uint64_t board_task(const hal_t *hal)
+{
+    base_board_t *b = &base_board;
+    board_link_task_begin(&b->link);
+    hal->watchdog_refresh();
+    forward_rover(&b->fwd, hal);
+    drain_captures(b, hal);
+    uint64_t due = nav_ports_poll(&b->nav);
+
+    uint64_t now = hal->micros();
+    if (now >= tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ)) {
+        send_pilot_inputs(b, (uint32_t)now);
+        do {
+            b->pilot_k++;
+        } while (tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ) <= now);
+    }
+    uint32_t lost = 0;
+    for (int c = 0; c < BASE_RC_CHANNELS; c++) {
+        lost += hal->capture_overruns(rc_capture[c]);
+    }
+    uint64_t link_due = board_link_poll(&b->link, lost);
+    board_link_task_end(&b->link);
+
+    uint64_t next_pilot = tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ);
+    due = due < link_due ? due : link_due;
+    return due < next_pilot ? due : next_pilot;
+}

@@ -1,0 +1,70 @@
+/*
+ * board_link.h — what every board does on its protocol link, in one place:
+ * frames out (per-message sequence numbers, origin board in the flags), the HELLO
+ * heartbeat with counters at 1 Hz, the schema_entry round robin (all entries at
+ * boot, then one every 250 ms), host frames in (streaming decoder), time-sync
+ * replies, and a persistent boot counter.
+ *
+ * Board-specific host frames (losa_raw_request, marker_command) go to the board's
+ * handler. Uses only the HAL and the protocol code (aw_frame.h, aw_messages.h).
+ */
+#ifndef AW_BOARD_LINK_H
+#define AW_BOARD_LINK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "aw_frame.h"
+#include "aw_messages.h"
+#include "hal.h"
+
+#define BOARD_LINK_HEARTBEAT_US 1000000u
+#define BOARD_LINK_SCHEMA_US 250000u
+/* Persistent config layout used by the link: [0..3] magic, [4..7] boot count. */
+#define BOARD_LINK_CONFIG_MAGIC 0x43425741u /* "AWBC" */
+
+typedef void (*board_link_rx_t)(void *ctx, const aw_frame_t *frame);
+
+typedef struct {
+    const hal_t *hal;
+    hal_port_t port;
+    uint8_t board_id;
+    const uint8_t *ids; /* message ids this board sends or receives (its schema) */
+    uint8_t id_count;
+    uint8_t next_entry;
+    bool announce_all;  /* send every schema entry on the next poll (boot) */
+    uint8_t seq[256];   /* next sequence number per msg_id */
+    uint32_t frames_sent;
+    uint32_t bytes_sent;
+    uint32_t boot_count;
+    uint8_t reset_cause;
+    uint64_t next_heartbeat_us;
+    uint64_t next_schema_us;
+    uint64_t task_start_us;
+    uint32_t task_max_us;
+    uint64_t rx_time_us; /* when the bytes being decoded were read */
+    board_link_rx_t on_rx;
+    void *ctx;
+    aw_decoder_t dec;
+} board_link_t;
+
+/* Sets up the link; bumps the persistent boot counter. The first poll sends the
+ * HELLO and every schema entry. */
+void board_link_init(board_link_t *l, const hal_t *hal, uint8_t board_id, hal_port_t port,
+                     const uint8_t *ids, uint8_t id_count, board_link_rx_t on_rx, void *ctx);
+
+/* Encodes and queues one message (msg points to its aw_<name>_t). False when the
+ * port's transmit ring had no room (the HAL counts the bytes; the sequence number
+ * still advances, so the host sees the gap). */
+bool board_link_send(board_link_t *l, uint8_t msg_id, const void *msg, uint32_t board_time_us);
+
+/* Reads and decodes host frames, answers time sync, sends heartbeat/schema when
+ * due. extra_overruns: the board's own lost samples (capture rings, parsers) for
+ * the heartbeat's buffer_overruns. Returns the link's next deadline (µs). */
+uint64_t board_link_poll(board_link_t *l, uint32_t extra_overruns);
+
+/* Brackets one board_task() pass for the heartbeat's task_max_us. */
+void board_link_task_begin(board_link_t *l);
+void board_link_task_end(board_link_t *l);
+
+#endif /* AW_BOARD_LINK_H */

@@ -1,0 +1,1 @@
+"""hil_sim.boards: the native firmware boards in the loop (channel.py: the sim channel)."""
