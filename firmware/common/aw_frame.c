@@ -234,12 +234,40 @@ bool aw_decoder_feed_byte(aw_decoder_t *d, uint8_t byte, aw_frame_t *frame)
     return ok;
 }
 
+/* Copy what is left of the current COBS block straight into buf, up to a zero (the
+ * delimiter) or the end of the input: the per-byte state machine then only sees code
+ * bytes and delimiters. Returns the bytes consumed. */
+static size_t copy_block(aw_decoder_t *d, const uint8_t *src, size_t avail)
+{
+    size_t n = d->code_left < avail ? d->code_left : avail;
+    if (d->enc_len + n > AW_MAX_ENCODED_SIZE) {
+        return 0; /* oversize: leave it to the byte path's counting */
+    }
+    uint8_t *dst = d->buf + d->len;
+    size_t k = 0;
+    while (k < n && src[k] != 0) {
+        dst[k] = src[k];
+        ++k;
+    }
+    d->len = (uint16_t)(d->len + k);
+    d->enc_len += (uint32_t)k;
+    d->code_left = (uint8_t)(d->code_left - k);
+    return k;
+}
+
 size_t aw_decoder_feed(aw_decoder_t *d, const uint8_t *data, size_t len)
 {
     size_t delivered = 0;
     aw_frame_t frame;
-    for (size_t i = 0; i < len; ++i) {
-        if (aw_decoder_feed_byte(d, data[i], &frame)) {
+    size_t i = 0;
+    while (i < len) {
+        if (d->code_left != 0) {
+            i += copy_block(d, data + i, len - i);
+            if (i == len) {
+                break;
+            }
+        }
+        if (aw_decoder_feed_byte(d, data[i++], &frame)) {
             ++delivered;
             if (d->on_frame != NULL) {
                 d->on_frame(d->ctx, &frame);

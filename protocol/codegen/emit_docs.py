@@ -148,6 +148,38 @@ def _spec(messages: list[Message], links: Links) -> str:
         the messages whose announced hashes differ. `heartbeat` and `schema_entry` never
         change layout (the generator refuses to change their hash), so they always decode.
 
+        ## Using the codecs
+
+        C (`firmware/common/`, no heap, C11, builds for the Cortex-M4 with soft float):
+
+        ```c
+        aw_imu_t imu = {{.gyro_frd_rad_s = {{0.1f, 0.0f, 0.0f}}}};
+        uint8_t out[AW_WIRE_MAX_IMU];          /* or AW_MAX_WIRE_SIZE for any message */
+        int n = aw_encode_imu(out, sizeof out, seq++, AW_BOARD_LOSA, micros(), &imu);
+
+        aw_decoder_t dec;                       /* about 0.4 KiB of RAM, one per port */
+        aw_decoder_init(&dec, on_frame, ctx);   /* on_frame(ctx, const aw_frame_t *) */
+        aw_decoder_feed(&dec, rx_bytes, rx_len);/* or aw_decoder_feed_byte(&dec, b, &frame) */
+        /* in on_frame: switch (f->header.msg_id) {{ case AW_ID_MARKER_COMMAND:
+           aw_unpack_marker_command(&cmd, f->payload); ... }} ; dec.counters.crc_error, ... */
+        ```
+
+        Python (`airwake.link`):
+
+        ```python
+        from airwake.link.framing import encode_frame
+        from airwake.link.decoder import StreamDecoder
+        from airwake.link.messages import Imu
+        wire = encode_frame(Imu(gyro_frd_rad_s=(0.1, 0.0, 0.0)), seq, flags, board_time_us)
+        decoder = StreamDecoder()
+        for frame in decoder.feed(chunk):      # Frame(msg_id, seq, flags, board_time_us, msg)
+            frame.origin, frame.name, frame.msg.gyro_frd_rad_s
+        decoder.counters(); decoder.schema_problems()
+        # whole captures: airwake.link.batch.decode_capture(data).tables["imu"] (numpy)
+        ```
+
+        `airwake decode CAPTURE [--json]` prints the same counters for a raw capture file.
+
         ## Evolving a message
 
         - Append fields at the end only; never reorder, retype, rename or remove (renaming
@@ -186,7 +218,9 @@ def _field_tables(messages: list[Message]) -> str:
                 extra = " Values: " + ", ".join(f"{k} {v}" for k, v in f.values.items()) + "."
             if f.bits:
                 extra = " Bits: " + ", ".join(f"{k} {v}" for k, v in f.bits.items()) + "."
-            out.append(f"| {off} | `{f.name}` | {t} | {f.unit} | {f.description}{extra} |\n")
+            desc = f.description if not extra or f.description.endswith(".") \
+                else f.description + "."
+            out.append(f"| {off} | `{f.name}` | {t} | {f.unit} | {desc}{extra} |\n")
         out.append("\n")
     return "## Fields\n\n" + "".join(out)
 
@@ -272,7 +306,7 @@ def _conclusion(boards: list[str], own: dict, carried: dict, links: Links) -> st
                         for b in boards)
     return (f"**Tightest board: {tightest}**, its busiest hop at {100 * loads[tightest]:.1f} % "
             f"of capacity. Slowest UART keeping each board's own traffic at or below 50 %: "
-            f"{slowest}. Boards whose traffic fits the slowest UART ({uarts[0][1]}) at all: "
+            f"{slowest}. Boards whose traffic fits {links.links[uarts[0][1]]['label']} at all: "
             f"{', '.join(fits_slowest) or 'none'}.\n")
 
 
