@@ -203,15 +203,42 @@ static void hunt(sbp_parser_t *p)
     discard(p, k);
 }
 
+/* CRC-16/XMODEM starts at 0, so a preamble followed by zeros is a "valid" empty frame
+ * of type 0 (zeros are common in payloads): type 0 does not exist and is refused. */
+static int frame_ok(const uint8_t *b, size_t total)
+{
+    return le_u16(b + 1) != 0u && crc16_xmodem(b + 1, total - 3) == le_u16(b + total - 2);
+}
+
+/* The frame at the front is still incomplete. If a later preamble in the buffer starts
+ * a frame that the last byte just completed with a valid CRC, the front one was a false
+ * start (garbage or a truncated frame whose length byte points far ahead): drop up to
+ * the later frame now instead of holding it back until up to 263 bytes have arrived.
+ * Each later candidate is CRC-checked once, when its last byte arrives. */
+static int later_frame_completed(sbp_parser_t *p)
+{
+    for (size_t j = 1; j + HEADER_LEN <= p->n; j++) {
+        if (p->buf[j] == SBP_PREAMBLE && HEADER_LEN + p->buf[j + 5] + 2u == p->n - j &&
+            frame_ok(p->buf + j, p->n - j)) {
+            p->bytes_dropped += (uint32_t)j;
+            discard(p, j);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static void process(sbp_parser_t *p)
 {
     while (p->n >= HEADER_LEN) {
         const size_t total = HEADER_LEN + p->buf[5] + 2u;
         if (p->n < total) {
-            return;
+            if (!later_frame_completed(p)) {
+                return;
+            }
+            continue;
         }
-        const uint16_t crc = crc16_xmodem(p->buf + 1, total - 3);
-        if (crc == le_u16(p->buf + total - 2)) {
+        if (frame_ok(p->buf, total)) {
             deliver(p);
             discard(p, total);
             hunt(p); /* leftovers come from a rescan */

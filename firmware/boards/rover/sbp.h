@@ -7,7 +7,9 @@
  * MSG_BASELINE_ECEF 0x020B, MSG_DOPS 0x0208, MSG_UTC_TIME 0x0103, MSG_IMU_RAW 0x0900.
  * Any other type is framed, CRC-checked, counted (`undecoded`) and handed over with
  * decoded = 0; so is a known type whose length does not match (`bad_length`).
- * After a bad CRC the parser rescans the bytes after the false preamble.
+ * After a bad CRC the parser rescans the bytes after the false preamble; a later frame
+ * completed inside a false start's claimed length is delivered at once. Type 0 (a
+ * preamble followed by zeros passes the CRC) is refused as a false start.
  */
 #ifndef AW_SBP_H
 #define AW_SBP_H

@@ -171,6 +171,24 @@ static void hunt(vn200_parser_t *p)
     discard(p, k);
 }
 
+/* The packet at the front is still incomplete. If a later sync byte in the buffer
+ * starts a packet that the last byte just completed with a valid CRC, the front one was
+ * a false start: drop up to the later packet now instead of holding it back until the
+ * false length is reached. Each later candidate is CRC-checked once, when complete. */
+static int later_packet_completed(vn200_parser_t *p)
+{
+    for (size_t j = 1; j + 2 < p->n; j++) {
+        size_t total = 0;
+        if (p->buf[j] == VN200_SYNC && header(p->buf + j, p->n - j, &total) == HDR_OK && total == p->n - j &&
+            crc16_xmodem(p->buf + j + 1, total - 1) == 0) {
+            p->bytes_dropped += (uint32_t)j;
+            discard(p, j);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static void process(vn200_parser_t *p)
 {
     while (p->n > 0) {
@@ -179,12 +197,16 @@ static void process(vn200_parser_t *p)
         if (h == HDR_NEED_MORE) {
             return;
         }
+        if (h == HDR_OK && total <= VN200_MAX_PACKET && p->n < total) {
+            if (!later_packet_completed(p)) {
+                return;
+            }
+            continue;
+        }
         if (h == HDR_OK && total > VN200_MAX_PACKET) {
             p->oversize++;
         } else if (h == HDR_BAD) {
             p->bad_headers++;
-        } else if (p->n < total) {
-            return;
         } else if (crc16_xmodem(p->buf + 1, total - 1) == 0) {
             decode(p);
             discard(p, total);
