@@ -106,6 +106,11 @@ uint64_t board_task(const hal_t *hal)
     base_board_t *b = &base_board;
     board_link_task_begin(&b->link);
     hal->watchdog_refresh();
+    uint32_t lost = 0;
+    for (int c = 0; c < BASE_RC_CHANNELS; c++) {
+        lost += hal->capture_overruns(rc_capture[c]);
+    }
+    uint64_t link_due = board_link_poll(&b->link, lost);
     forward_rover(&b->fwd, hal);
     drain_captures(b, hal);
     uint64_t due = nav_ports_poll(&b->nav);
@@ -117,11 +122,6 @@ uint64_t board_task(const hal_t *hal)
             b->pilot_k++;
         } while (tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ) <= now);
     }
-    uint32_t lost = 0;
-    for (int c = 0; c < BASE_RC_CHANNELS; c++) {
-        lost += hal->capture_overruns(rc_capture[c]);
-    }
-    uint64_t link_due = board_link_poll(&b->link, lost);
     board_link_task_end(&b->link);
 
     uint64_t next_pilot = tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ);

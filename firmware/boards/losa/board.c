@@ -160,6 +160,7 @@ uint64_t board_task(const hal_t *hal)
     losa_board_t *b = &losa_board;
     board_link_task_begin(&b->link);
     hal->watchdog_refresh();
+    uint64_t link_due = board_link_poll(&b->link, 0); /* host commands first, HELLO due */
     uint64_t now = hal->micros();
 
     if (!b->read_pending && now >= b->next_frame_us) {
@@ -188,7 +189,6 @@ uint64_t board_task(const hal_t *hal)
             b->next_imu_us = now + LOSA_IMU_PERIOD_US;
         }
     }
-    uint64_t link_due = board_link_poll(&b->link, 0);
     board_link_task_end(&b->link);
 
     uint64_t due = min_u64(link_due, b->next_imu_us);

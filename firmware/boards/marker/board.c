@@ -110,6 +110,7 @@ uint64_t board_task(const hal_t *hal)
     marker_board_t *b = &marker_board;
     board_link_task_begin(&b->link);
     hal->watchdog_refresh();
+    uint64_t due = board_link_poll(&b->link, 0); /* host feedback first, HELLO due */
     uint64_t now = hal->micros();
 
     if (now >= tick_us(b->t0_us, b->imu_k, MARKER_IMU_HZ)) {
@@ -131,7 +132,6 @@ uint64_t board_task(const hal_t *hal)
             b->out_k++;
         } while (tick_us(b->t0_us, b->out_k, MARKER_OUTPUT_HZ) <= now);
     }
-    uint64_t due = board_link_poll(&b->link, 0);
     board_link_task_end(&b->link);
 
     uint64_t next_imu = tick_us(b->t0_us, b->imu_k, MARKER_IMU_HZ);

@@ -80,6 +80,9 @@ uint64_t board_task(const hal_t *hal)
     rover_board_t *b = &rover_board;
     board_link_task_begin(&b->link);
     hal->watchdog_refresh();
+    uint32_t lost = hal->capture_overruns(HAL_CAPTURE_ROTOR_IR) +
+                    hal->capture_overruns(HAL_CAPTURE_TAIL_SERVO);
+    uint64_t link_due = board_link_poll(&b->link, lost);
     drain_captures(b, hal);
     uint64_t due = nav_ports_poll(&b->nav);
 
@@ -96,9 +99,6 @@ uint64_t board_task(const hal_t *hal)
             b->tail_k++;
         } while (tick_us(b->t0_us, b->tail_k, ROVER_TAIL_HZ) <= now);
     }
-    uint32_t lost = hal->capture_overruns(HAL_CAPTURE_ROTOR_IR) +
-                    hal->capture_overruns(HAL_CAPTURE_TAIL_SERVO);
-    uint64_t link_due = board_link_poll(&b->link, lost);
     board_link_task_end(&b->link);
 
     uint64_t next_rotor = tick_us(b->t0_us, b->rotor_k, ROVER_ROTOR_HZ);
