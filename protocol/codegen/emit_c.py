@@ -38,10 +38,6 @@ def _field_decl(f: Field) -> str:
     return f"    {f.ctype} {f.name}{dims}; /* {' '.join(f.description.split())}{unit} */\n"
 
 
-def wire_max(m: Message) -> int:
-    return cobs_max_encoded(m.raw_frame_size) + 2
-
-
 def header(messages: list[Message], links: Links) -> str:
     max_raw = max(m.raw_frame_size for m in messages)
     out = [BANNER, textwrap.dedent("""\
@@ -88,7 +84,7 @@ def header(messages: list[Message], links: Links) -> str:
         out.append(f"#define AW_SIZE_{up} {m.payload_size}u\n")
         out.append(f"#define AW_HASH_{up} 0x{m.def_hash:08X}u\n")
         out.append(f"#define AW_SEED_{up} 0x{m.crc_seed:04X}u\n")
-        out.append(f"#define AW_WIRE_MAX_{up} {wire_max(m)}u\n")
+        out.append(f"#define AW_WIRE_MAX_{up} {m.wire_max}u\n")
         for f in m.fields:
             for value, label in (f.values or {}).items():
                 out.append(f"#define AW_{up}_{_upper(f.name)}_{_upper(label)} {value}u\n")

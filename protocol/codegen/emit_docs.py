@@ -17,10 +17,6 @@ BANNER = ("<!-- generated from protocol/messages by protocol/codegen — do not 
           "run `make gen` -->\n")
 
 
-def wire_max(m: Message) -> int:
-    return cobs_max_encoded(m.raw_frame_size) + 2
-
-
 def _fmt_rate(m: Message) -> str:
     parts = [f"{b} {r:g}" for b, r in m.rate_hz.items()]
     text = ", ".join(parts)
@@ -199,7 +195,7 @@ def _message_table(messages: list[Message]) -> str:
         frozen = " (frozen)" if m.frozen else ""
         note = f" — {m.rate_note}" if m.rate_note else ""
         rows.append(f"| 0x{m.id:02X} | [`{m.name}`](#{m.name}){frozen} | {m.payload_size} | "
-                    f"{wire_max(m)} | {_fmt_rate(m)}{note} | {m.time} |")
+                    f"{m.wire_max} | {_fmt_rate(m)}{note} | {m.time} |")
     return "## Messages\n\n" + "\n".join(rows) + "\n"
 
 
@@ -227,7 +223,7 @@ def _field_tables(messages: list[Message]) -> str:
 
 def board_traffic(messages: list[Message], board: str) -> list[tuple[Message, float, float]]:
     """(message, rate, bytes/s with worst-case COBS and both delimiters) sent by board."""
-    return [(m, m.rate_hz[board], m.rate_hz[board] * wire_max(m))
+    return [(m, m.rate_hz[board], m.rate_hz[board] * m.wire_max)
             for m in messages if board in m.rate_hz]
 
 
@@ -250,9 +246,9 @@ def _budget(messages: list[Message], links: Links) -> str:
     for b in boards:
         out.append(f"**{b}**\n\n| message | rate Hz | wire B | B/s |\n|---|---|---|---|\n")
         for m, rate, bps in board_traffic(messages, b):
-            out.append(f"| `{m.name}` | {rate:g} | {wire_max(m)} | {bps:,.0f} |\n")
+            out.append(f"| `{m.name}` | {rate:g} | {m.wire_max} | {bps:,.0f} |\n")
         out.append(f"| **total** | | | **{own[b]:,.0f}** |\n\n")
-    host_tx = {b: sum(m.rate_hz["host"] * wire_max(m) for m in messages
+    host_tx = {b: sum(m.rate_hz["host"] * m.wire_max for m in messages
                       if "host" in m.rate_hz and b in m.to) for b in boards}
     out.append("Host → board (the other direction of each full-duplex link): "
                + ", ".join(f"{b} {host_tx[b]:,.0f} B/s" for b in boards) + ".\n\n")

@@ -160,6 +160,11 @@ class Message:
         return FRAME_OVERHEAD + self.payload_size
 
     @property
+    def wire_max(self) -> int:
+        """Longest wire form: leading 0x00, COBS, trailing 0x00."""
+        return cobs_max_encoded(self.raw_frame_size) + 2
+
+    @property
     def payload_format(self) -> str:
         return "<" + "".join(f"{f.count if f.count > 1 else ''}{f.code}" for f in self.fields)
 
