@@ -25,6 +25,19 @@ import tempfile
 import time
 from pathlib import Path
 
+from airwake.link.framing import encode_payload_frame
+from airwake.link.messages import (
+    BOARD_IDS,
+    BOARDS,
+    BY_ID,
+    HEARTBEAT,
+    MESSAGES,
+    SCHEMA_ENTRY,
+    SCHEMA_HASH,
+    Heartbeat,
+    SchemaEntry,
+)
+
 SECTION = "link"
 REPO = Path(__file__).resolve().parents[3]
 CHUNK = 4096
@@ -32,9 +45,6 @@ CHUNK = 4096
 
 def synthetic_capture(n_frames: int, seed: int = 1) -> bytes:
     """Board→host frames of every board at nominal rates, random payloads, in time order."""
-    from airwake.link.framing import encode_payload_frame
-    from airwake.link.messages import BOARD_IDS, MESSAGES
-
     rng = random.Random(seed)
     streams = [(m, BOARD_IDS[b], rate) for m in MESSAGES for b, rate in m.rate_hz.items()
                if b != "host" and rate > 0]
@@ -51,10 +61,24 @@ def synthetic_capture(n_frames: int, seed: int = 1) -> bytes:
     out = []
     for t_s, k in events[:n_frames]:
         m, origin, _ = streams[k]
-        out.append(encode_payload_frame(m.id, rng.choice(payloads[m.id]), seqs[k] & 0xFF,
-                                        origin, int(t_s * 1e6) & 0xFFFFFFFF))
+        if m.id in (HEARTBEAT.id, SCHEMA_ENTRY.id):  # real content: a consistent schema
+            payload = _control_payload(m, origin, seqs[k])
+        else:
+            payload = rng.choice(payloads[m.id])
+        out.append(encode_payload_frame(m.id, payload, seqs[k] & 0xFF, origin,
+                                        int(t_s * 1e6) & 0xFFFFFFFF))
         seqs[k] += 1
     return b"".join(out)
+
+
+def _control_payload(m, origin: int, n: int) -> bytes:
+    """Heartbeat / schema_entry payloads a board of this schema would send."""
+    if m.id == HEARTBEAT.id:
+        return m.pack(Heartbeat(board_id=origin, fw_version_minor=1, schema_hash=SCHEMA_HASH,
+                                uptime_ms=1000 * n, frames_sent=n))
+    sent = [x for x in MESSAGES if BOARDS[origin] in x.rate_hz]
+    entry = sent[n % len(sent)]
+    return m.pack(SchemaEntry(entry.id, entry.def_hash, n % len(sent), len(sent)))
 
 
 def _time_stream(data: bytes) -> tuple[float, int]:
@@ -95,20 +119,13 @@ def _mavlink_capture(ours: bytes, n_frames: int) -> tuple[bytes, int]:
             i(64), [f() for _ in range(4)], f(), f(), f(), i(31), i(31), i(31),
             *(i(15) for _ in range(3)), i(16), i(16), *(i(15) for _ in range(3)))),
     ]
-    decoder = StreamDecoder()
-    frames = decoder.feed(ours)[:n_frames]
+    frames = StreamDecoder().feed(_cut_after_frames(ours, n_frames))
     out = []
     for frame in frames:
-        payload = _payload_size(frame.msg_id)
+        payload = BY_ID[frame.msg_id].payload_size
         _, build = min(candidates, key=lambda c: abs(c[0] - payload))
         out.append(build().pack(mav))
     return b"".join(out), len(out)
-
-
-def _payload_size(msg_id: int) -> int:
-    from airwake.link.messages import BY_ID
-
-    return BY_ID[msg_id].payload_size
 
 
 def _time_pymavlink(data: bytes) -> tuple[float, int]:
