@@ -42,12 +42,29 @@ void board_link_init(board_link_t *l, const hal_t *hal, uint8_t board_id, hal_po
     aw_decoder_init(&l->dec, on_frame, l);
 }
 
+/* Room kept free for the link's own frames: when data saturates the port, the
+ * heartbeat that reports the drops still gets through. */
+#define CONTROL_RESERVE (AW_WIRE_MAX_HEARTBEAT + AW_WIRE_MAX_SCHEMA_ENTRY + AW_WIRE_MAX_TIME_SYNC_REPLY)
+
+static bool is_control(uint8_t msg_id)
+{
+    return msg_id == AW_ID_HEARTBEAT || msg_id == AW_ID_SCHEMA_ENTRY ||
+           msg_id == AW_ID_TIME_SYNC_REPLY;
+}
+
 bool board_link_send(board_link_t *l, uint8_t msg_id, const void *msg, uint32_t board_time_us)
 {
     uint8_t wire[AW_MAX_WIRE_SIZE];
     int n = aw_encode_msg(wire, sizeof(wire), msg_id, l->seq[msg_id]++,
                           (uint8_t)(l->board_id & AW_FLAGS_ORIGIN_MASK), board_time_us, msg);
-    if (n <= 0 || !l->hal->uart_write(l->port, wire, (size_t)n)) {
+    if (n <= 0) {
+        return false;
+    }
+    if (!is_control(msg_id) && l->hal->uart_tx_free(l->port) < (size_t)n + CONTROL_RESERVE) {
+        l->reserve_dropped += (uint32_t)n; /* counted here: the HAL never saw it */
+        return false;
+    }
+    if (!l->hal->uart_write(l->port, wire, (size_t)n)) {
         return false;
     }
     l->frames_sent++;
@@ -92,6 +109,7 @@ static void send_heartbeat(board_link_t *l, uint32_t extra_overruns)
         .rx_bytes_dropped = l->dec.counters.bytes_dropped,
         .buffer_overruns = extra_overruns,
         .task_max_us = l->task_max_us,
+        .tx_bytes_dropped = l->reserve_dropped,
     };
     for (int p = 0; p < HAL_PORT_COUNT; p++) {
         hal_port_stats_t st;

@@ -36,6 +36,7 @@ typedef struct {
     uint8_t seq[256];   /* next sequence number per msg_id */
     uint32_t frames_sent;
     uint32_t bytes_sent;
+    uint32_t reserve_dropped; /* bytes of data frames held back to keep room for control */
     uint32_t boot_count;
     uint8_t reset_cause;
     uint64_t next_heartbeat_us;
@@ -54,8 +55,10 @@ void board_link_init(board_link_t *l, const hal_t *hal, uint8_t board_id, hal_po
                      const uint8_t *ids, uint8_t id_count, board_link_rx_t on_rx, void *ctx);
 
 /* Encodes and queues one message (msg points to its aw_<name>_t). False when the
- * port's transmit ring had no room (the HAL counts the bytes; the sequence number
- * still advances, so the host sees the gap). */
+ * port's transmit ring had no room (the bytes are counted in the heartbeat's
+ * tx_bytes_dropped; the sequence number still advances, so the host sees the gap).
+ * Data frames leave room for the heartbeat, schema entries and time-sync replies,
+ * so those get through a saturated link. */
 bool board_link_send(board_link_t *l, uint8_t msg_id, const void *msg, uint32_t board_time_us);
 
 /* Reads and decodes host frames, answers time sync, sends heartbeat/schema when

@@ -19,6 +19,7 @@ runs only inside `advance()`: same inputs, same output bytes. Wall mode
 
 from __future__ import annotations
 
+import fcntl
 import os
 import select
 import shutil
@@ -111,8 +112,14 @@ def executable(board: str, flavour: str = "release", build: bool = True) -> Path
     folder = {"release": "native", "asan": "native-asan"}[flavour]
     path = REPO_ROOT / "build" / folder / board
     if build and not path.exists():
-        subprocess.run(["make", "-s", "-C", str(REPO_ROOT / "firmware"), str(path)],
-                       check=True)
+        # one make at a time (pytest-xdist workers, parallel SIL runs share build/)
+        lock_path = REPO_ROOT / "build" / ".native-build.lock"
+        lock_path.parent.mkdir(parents=True, exist_ok=True)
+        with open(lock_path, "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            if not path.exists():
+                subprocess.run(["make", "-s", "-C", str(REPO_ROOT / "firmware"), str(path)],
+                               check=True)
     return path
 
 

@@ -82,7 +82,9 @@ void chan_flush(void);
 bool uart_map(const char *spec, char *err, size_t err_len); /* "ROLE=PATH[@BAUD]" or "ROLE=sim" */
 void uart_reset(void);                   /* rings and counters cleared at reboot */
 void uart_sim_input(hal_port_t port, const uint8_t *data, size_t len);
-/* Moves bytes between rings and fds / the channel; true when new rx bytes arrived. */
+/* Sends what the transmit rings may send by now (fds / UART_TX records). */
+void uart_service_tx(uint64_t now_sim);
+/* Transmit as above, then reads the port fds; true when new rx bytes arrived. */
 bool uart_service(uint64_t now_sim);
 int uart_poll_fds(int *fds, int max); /* fds to wait on in wall mode */
 bool uart_write(hal_port_t port, const uint8_t *data, size_t len);

@@ -62,8 +62,8 @@ static uint64_t min3(uint64_t a, uint64_t b, uint64_t c)
 /* Stepped: the clock moves only here. Inputs due at the current time are applied
  * first (they are the interrupts the board must see); then the clock jumps to the
  * earliest of the board's deadline, the next input and the end of the step. At the
- * end of a step the transmit rings are drained, IDLE is answered and the next
- * packet awaited; receive bytes picked up there wake the board like an interrupt. */
+ * end of a step the port fds are read, IDLE is answered and the next packet
+ * awaited; receive bytes picked up there wake the board like an interrupt. */
 static void idle_stepped(uint64_t until_board_us)
 {
     static bool rx_woke;
@@ -72,6 +72,9 @@ static void idle_stepped(uint64_t until_board_us)
     if (target <= c->now_sim) {
         target = c->now_sim + 1u; /* every pass of the task loop costs 1 µs: no livelock */
     }
+    /* bytes the task just queued leave now (as fast as the port's baud rate allows);
+     * receive fds are read only at step ends: one syscall per step, not per pass */
+    uart_service_tx(c->now_sim);
     for (;;) {
         if (chan_apply_due(c->now_sim)) {
             return;

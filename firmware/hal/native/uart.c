@@ -242,17 +242,23 @@ static bool service_rx(port_t *p)
     }
 }
 
-bool uart_service(uint64_t now_sim)
+void uart_service_tx(uint64_t now_sim)
 {
-    bool got = false;
     for (int i = 0; i < HAL_PORT_COUNT; i++) {
         port_t *p = &ports[i];
-        if (p->kind == PORT_NONE) {
-            continue;
+        if (p->kind != PORT_NONE && (ringbuf_count(&p->tx) > 0 || p->baud != 0)) {
+            service_tx(p, (hal_port_t)i, now_sim);
         }
-        service_tx(p, (hal_port_t)i, now_sim);
-        if (p->kind == PORT_FD) {
-            got = service_rx(p) || got;
+    }
+}
+
+bool uart_service(uint64_t now_sim)
+{
+    uart_service_tx(now_sim);
+    bool got = false;
+    for (int i = 0; i < HAL_PORT_COUNT; i++) {
+        if (ports[i].kind == PORT_FD) {
+            got = service_rx(&ports[i]) || got;
         }
     }
     return got;
