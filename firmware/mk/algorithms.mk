@@ -36,11 +36,13 @@ $(AWBOARDS_LIB): $(ALGO_SRCS) $(ALGO_HDRS) $(FW)/bench/awboards_abi.c
 NATIVE_BOARDS += $(AWBOARDS_LIB)
 
 # Callgrind drivers: -O2, no sanitizers, no PIE (absolute addresses for the
-# per-instruction profile), no errno from sqrtf (an M4 build has none either).
+# per-instruction profile), no errno from sqrtf (an M4 build has none either), no
+# vectorisation (every float operation stays one scalar SSE instruction to count).
 ALGO_BENCH_DRIVERS := $(BUILD)/native/algo_bench/bench_losa_frame $(BUILD)/native/algo_bench/bench_marker_step
 $(BUILD)/native/algo_bench/%: $(FW)/bench/%.c $(ALGO_SRCS) $(ALGO_HDRS)
 	@mkdir -p $(@D)
-	$(NATIVE_CC) -std=c11 -O2 -g -fno-math-errno -no-pie -fno-pie $(ALGO_INC) -o $@ $< $(ALGO_SRCS) -lm
+	$(NATIVE_CC) -std=c11 -O2 -g -fno-math-errno -fno-tree-vectorize -no-pie -fno-pie $(ALGO_INC) \
+	  -o $@ $< $(ALGO_SRCS) -lm
 
 ALGO_ARM_OBJS := $(patsubst $(FW)/%.c,$(BUILD)/teensy32/algos/%.o,$(ALGO_SRCS))
 $(BUILD)/teensy32/algos/%.o: $(FW)/%.c $(ALGO_HDRS)
