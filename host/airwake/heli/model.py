@@ -105,8 +105,12 @@ class HeliModel:
     def __repr__(self) -> str:
         return f"HeliModel({self.effect_names})"
 
-    def __eq__(self, other) -> bool:
-        return isinstance(other, HeliModel) and self.effects == other.effects
+    def __eq__(self, other):
+        if not isinstance(other, HeliModel):
+            return NotImplemented
+        return self.effects == other.effects
+
+    __hash__ = None
 
     def state_slice(self, effect: str) -> slice:
         return self._slices[effect]

@@ -236,7 +236,7 @@ class MainRotor(Effect):
         e = p.lag_hinge_offset
         lz2 = 1.5 * e / (1.0 - e) + p.lag_stiffness_nm_rad / (p.flap_inertia_kg_m2 * om2)
         lz = np.sqrt(lz2)
-        rhs_z = 0.5 * gam * drag1 - col(2.0 * p.lag_damping_ratio * lz) * cm["zeta_p"]
+        rhs_z = 0.5 * col(gam) * drag1 - col(2.0 * p.lag_damping_ratio * lz) * cm["zeta_p"]
         hz = rhs_z @ _W3
         ddz0 = om2 * (hz[:, 0] - lz2 * z0)
         ddzc = om2 * (2.0 * hz[:, 1] - (lz2 - 1.0) * zc) - 2.0 * om * dzs
