@@ -21,8 +21,8 @@
 #include "ringbuf.h"
 #include "sim_proto.h"
 
-#define RX_RING 2048u
-#define TX_RING 8192u
+#define RX_RING 1024u
+#define TX_RING 4096u
 #define SIM_CHUNK 4096u
 #define CREDIT_UNIT 10000000ull /* baud * µs / 1e7 = bytes (10 bits per byte) */
 

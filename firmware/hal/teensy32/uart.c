@@ -27,8 +27,9 @@ typedef struct {
     hal_port_stats_t st; /* task-side counters */
 } uart_port_t;
 
-static uart_port_t ports[HAL_PORT_COUNT];
-static int8_t role_of_uart[3] = {-1, -1, -1};
+/* storage per hardware UART (three on the MK20DX256), not per role */
+static uart_port_t uarts[3];
+static hal_port_stats_t unmapped_stats[HAL_PORT_COUNT]; /* refused writes to unwired roles */
 
 static void configure(const uart_map_t *m)
 {
@@ -51,12 +52,12 @@ static void configure(const uart_map_t *m)
 
 void uart_init(void)
 {
+    for (int n = 0; n < 3; n++) {
+        ringbuf_init(&uarts[n].rx, uarts[n].rx_mem, RX_RING, 1);
+        ringbuf_init(&uarts[n].tx, uarts[n].tx_mem, TX_RING, 1);
+    }
     for (int role = 0; role < HAL_PORT_COUNT; role++) {
-        uart_port_t *p = &ports[role];
-        ringbuf_init(&p->rx, p->rx_mem, RX_RING, 1);
-        ringbuf_init(&p->tx, p->tx_mem, TX_RING, 1);
         if (uart_map[role].uart >= 0) {
-            role_of_uart[uart_map[role].uart] = (int8_t)role;
             configure(&uart_map[role]);
         }
     }
@@ -64,12 +65,7 @@ void uart_init(void)
 
 static void uart_isr(uint32_t n)
 {
-    int role = role_of_uart[n];
-    if (role < 0) {
-        UART_C2(n) = 0;
-        return;
-    }
-    uart_port_t *p = &ports[role];
+    uart_port_t *p = &uarts[n];
     uint8_t s1 = UART_S1(n);
     if (s1 & (UART_S1_RDRF | UART_S1_OR | UART_S1_NF | UART_S1_FE | UART_S1_PF)) {
         uint8_t d = UART_D(n); /* reading S1 then D clears the flags */
@@ -100,20 +96,24 @@ void uart0_status_isr(void) { uart_isr(0); }
 void uart1_status_isr(void) { uart_isr(1); }
 void uart2_status_isr(void) { uart_isr(2); }
 
-static bool mapped(hal_port_t port)
+/* the UART behind a role, NULL when the role is not wired on this board */
+static uart_port_t *port_of(hal_port_t port)
 {
-    return (unsigned)port < HAL_PORT_COUNT && uart_map[port].uart >= 0;
+    if ((unsigned)port >= HAL_PORT_COUNT || uart_map[port].uart < 0) {
+        return NULL;
+    }
+    return &uarts[uart_map[port].uart];
 }
 
 bool uart_write(hal_port_t port, const uint8_t *data, size_t len)
 {
-    if (!mapped(port)) {
+    uart_port_t *p = port_of(port);
+    if (p == NULL) {
         if ((unsigned)port < HAL_PORT_COUNT) {
-            ports[port].st.tx_dropped += (uint32_t)len;
+            unmapped_stats[port].tx_dropped += (uint32_t)len;
         }
         return false;
     }
-    uart_port_t *p = &ports[port];
     if (!ringbuf_write_all(&p->tx, data, len)) {
         p->st.tx_dropped += (uint32_t)len;
         return false;
@@ -128,15 +128,14 @@ bool uart_write(hal_port_t port, const uint8_t *data, size_t len)
 
 size_t uart_read(hal_port_t port, uint8_t *buf, size_t cap)
 {
-    if (!mapped(port)) {
-        return 0;
-    }
-    return ringbuf_read(&ports[port].rx, buf, cap);
+    uart_port_t *p = port_of(port);
+    return p != NULL ? ringbuf_read(&p->rx, buf, cap) : 0u;
 }
 
 size_t uart_tx_free(hal_port_t port)
 {
-    return mapped(port) ? ringbuf_free(&ports[port].tx) : 0u;
+    uart_port_t *p = port_of(port);
+    return p != NULL ? ringbuf_free(&p->tx) : 0u;
 }
 
 void uart_stats(hal_port_t port, hal_port_stats_t *out)
@@ -145,7 +144,11 @@ void uart_stats(hal_port_t port, hal_port_stats_t *out)
     if ((unsigned)port >= HAL_PORT_COUNT) {
         return;
     }
-    uart_port_t *p = &ports[port];
+    uart_port_t *p = port_of(port);
+    if (p == NULL) {
+        *out = unmapped_stats[port];
+        return;
+    }
     *out = p->st;
     out->rx_overruns = p->rx.overruns + p->hw_overruns;
     out->rx_errors = p->rx_errors;
