@@ -17,7 +17,7 @@ ALGO_SRCS_parsers := $(addprefix $(FW)/boards/rover/,crc16_xmodem.c vn200.c sbp.
 ALGO_SRCS_rover := $(ALGO_SRCS_parsers) $(FW)/boards/rover/rotor_speed.c $(FW)/boards/base/pwm_capture.c
 ALGO_SRCS_base := $(ALGO_SRCS_parsers) $(addprefix $(FW)/boards/base/,pwm_capture.c sbus.c)
 ALGO_SRCS := $(sort $(ALGO_SRCS_losa) $(ALGO_SRCS_marker) $(ALGO_SRCS_rover) $(ALGO_SRCS_base))
-ALGO_HDRS := $(ALGO_SRCS:.c=.h) $(FW)/boards/rover/le_bytes.h
+ALGO_HDRS := $(ALGO_SRCS:.c=.h) $(FW)/boards/rover/le_bytes.h $(FW)/boards/rover/resync_buf.h
 
 ALGO_TEST_SRCS := $(sort $(wildcard $(addprefix $(FW)/tests/,test_losa_*.c test_marker_*.c \
                     test_rover_*.c test_base_*.c test_quat*.c)))

@@ -5,6 +5,7 @@
 
 #include "crc16_xmodem.h"
 #include "le_bytes.h"
+#include "resync_buf.h"
 
 #define HEADER_LEN 6u
 
@@ -188,19 +189,12 @@ static void deliver(sbp_parser_t *p)
 
 static void discard(sbp_parser_t *p, size_t k)
 {
-    memmove(p->buf, p->buf + k, p->n - k);
-    p->n -= k;
+    resync_discard(p->buf, &p->n, k);
 }
 
-/* Skip to the next sync byte in what is buffered (counting what is skipped). */
 static void hunt(sbp_parser_t *p)
 {
-    size_t k = 0;
-    while (k < p->n && p->buf[k] != SBP_PREAMBLE) {
-        k++;
-    }
-    p->bytes_dropped += (uint32_t)k;
-    discard(p, k);
+    p->bytes_dropped += resync_hunt(p->buf, &p->n, SBP_PREAMBLE);
 }
 
 /* CRC-16/XMODEM starts at 0, so a preamble followed by zeros is a "valid" empty frame

@@ -5,6 +5,7 @@
 
 #include "crc16_xmodem.h"
 #include "le_bytes.h"
+#include "resync_buf.h"
 
 /* Field sizes per group (rows 1..7) and bit (0..14); 0 = unknown or variable length. */
 static const uint8_t field_size[VN200_GROUPS][15] = {
@@ -156,19 +157,12 @@ static void decode(vn200_parser_t *p)
 
 static void discard(vn200_parser_t *p, size_t k)
 {
-    memmove(p->buf, p->buf + k, p->n - k);
-    p->n -= k;
+    resync_discard(p->buf, &p->n, k);
 }
 
-/* Skip to the next sync byte in what is buffered (counting what is skipped). */
 static void hunt(vn200_parser_t *p)
 {
-    size_t k = 0;
-    while (k < p->n && p->buf[k] != VN200_SYNC) {
-        k++;
-    }
-    p->bytes_dropped += (uint32_t)k;
-    discard(p, k);
+    p->bytes_dropped += resync_hunt(p->buf, &p->n, VN200_SYNC);
 }
 
 /* The packet at the front is still incomplete. If a later sync byte in the buffer
