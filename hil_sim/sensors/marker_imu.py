@@ -107,13 +107,13 @@ class MarkerImu:
         truth = trajectory.at(t)
         errs = imu_errors(t, truth.rotor_azimuth_rad, c.imu, self.rng)
         # Magnetometer: sampled at its own instants, held until the next one.
-        t_mag = np.floor((t - t[0]) * c.mag_rate_hz) / c.mag_rate_hz + t[0] if t.size else t
+        t0 = t[0] if t.size else 0.0
+        held = np.floor((t - t0) * c.mag_rate_hz + 1e-9) / c.mag_rate_hz + t0
+        t_mag, mag_index = np.unique(held, return_inverse=True)
         q_mag = trajectory.at(t_mag).quat_wxyz
-        mag = rotate_inverse(q_mag, np.asarray(c.mag_field_ned_ut)) + np.asarray(
-            c.mag_hard_iron_ut)
-        mag_noise = self.rng.standard_normal((np.unique(t_mag).size, 3)) * c.mag_noise_ut
-        _, mag_index = np.unique(t_mag, return_inverse=True)
-        mag = mag + mag_noise[mag_index]
+        mag = (rotate_inverse(q_mag, np.asarray(c.mag_field_ned_ut))
+               + np.asarray(c.mag_hard_iron_ut)
+               + self.rng.standard_normal((t_mag.size, 3)) * c.mag_noise_ut)[mag_index]
         temp = c.temperature_c + 0.05 * self.rng.standard_normal(t.size)
         return MarkerImuSamples(
             t_s=t,

@@ -41,14 +41,16 @@ VN_SYNC = 0xFA
 GROUP_COMMON = 0x01
 
 # Field sizes (bytes) per binary group (bit index 0..15 of each group's field mask), from
-# VectorNav's programming library; 0 = reserved (a packet using it cannot be sized).
+# VectorNav's programming library (the revision with the GNSS2 group 7; 0 = unassigned or
+# variable length: a packet using it cannot be sized and is counted as unsupported).
 VN_GROUP_FIELD_SIZES: tuple[tuple[int, ...], ...] = (
     (8, 8, 8, 12, 16, 12, 24, 12, 12, 24, 20, 28, 2, 4, 8, 0),   # 1 Common
     (8, 8, 8, 2, 8, 8, 8, 4, 4, 1, 0, 0, 0, 0, 0, 0),            # 2 Time
     (2, 12, 12, 12, 4, 4, 16, 12, 12, 12, 12, 2, 40, 0, 0, 0),   # 3 IMU
-    (8, 8, 2, 1, 1, 24, 24, 12, 12, 12, 4, 4, 32, 0, 0, 0),      # 4 GNSS
-    (2, 12, 16, 36, 12, 12, 12, 12, 12, 12, 28, 24, 0, 0, 0, 0),  # 5 Attitude
+    (8, 8, 2, 1, 1, 24, 24, 12, 12, 12, 4, 4, 2, 28, 0, 0),      # 4 GNSS1
+    (2, 12, 16, 36, 12, 12, 12, 12, 12, 12, 28, 24, 12, 0, 0, 0),  # 5 Attitude
     (2, 24, 24, 12, 12, 12, 12, 12, 12, 4, 4, 68, 64, 0, 0, 0),  # 6 INS
+    (8, 8, 2, 1, 1, 24, 24, 12, 12, 12, 4, 4, 2, 28, 0, 0),      # 7 GNSS2
 )
 
 # Common-group fields we emit (bit -> name).

@@ -146,7 +146,7 @@ def _synthesise(shape: tuple[int, int, int], spacing: np.ndarray, config: Turbul
     comps = []
     for i in range(3):
         u_hat = amp * (noise_hat[i] - kvec[i] * kdotn)
-        comps.append(np.fft.irfftn(u_hat, s=shape))
+        comps.append(np.fft.irfftn(u_hat, s=shape, axes=(0, 1, 2)))
     field = np.stack(comps, axis=-1)
     field -= field.mean(axis=(0, 1, 2))
     field /= field.std(axis=(0, 1, 2))

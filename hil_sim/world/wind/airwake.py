@@ -12,7 +12,8 @@ central differences):
     psi = U [h - g D(s) I(h; s)] + g psi_bubble + g psi_shed
 
 - wake deficit D(s) = D0 * ramp(s) * exp(-softplus(s - L_r) / L_d): starts at the
-  step, holds through the recirculation zone, decays with distance beyond it; profile
+  step, holds through the recirculation zone, decays with distance beyond it (its
+  displacement flow — downwash where the wake recovers — fades above ~3 m); profile
   phi = (1 - tanh((h - H_w(s)) / delta(s))) / 2 (a shear layer at height H_w that starts
   at the hangar top and sinks toward reattachment, thickness delta = delta0 + a s),
   I = integral of phi dh (closed form with log-cosh);
@@ -51,6 +52,8 @@ from hil_sim.world.wind.base import WindField
 _RAMP_M = 0.5  # width of the wake onset at the step
 _SOFT_M = 1.0  # smoothing length of softplus
 _DIFF_M = 1e-3  # central-difference step of the stream function
+_DISPLACEMENT_TOP_M = 3.0  # the wake's displacement flow fades above this height ...
+_DISPLACEMENT_FADE_M = 4.0  # ... over this length (no vertical wind far above the ship)
 
 
 def _airwake_turbulence() -> TurbulenceConfig:
@@ -66,7 +69,7 @@ class ShipAirwakeConfig:
     recirculation_length_m: float = 7.5
     bubble_height_fraction: float = 0.8
     reverse_flow_fraction: float = 0.4
-    wake_deficit: float = 0.9
+    wake_deficit: float = 1.0
     deficit_decay_length_m: float = 15.0
     shear_layer_thickness_m: float = 0.15
     shear_layer_growth: float = 0.08
@@ -177,7 +180,8 @@ class ShipAirwake(WindField):
         u = self.speed
         d, hw = sh["delta"], sh["h_w"]
         integral = 0.5 * (h - d * (_logcosh((h - hw) / d) - _logcosh(-hw / d)))
-        psi = u * (h - g * sh["deficit"] * integral)
+        fade = np.exp(-_softplus(h - _DISPLACEMENT_TOP_M) / _DISPLACEMENT_FADE_M)
+        psi = u * (h - g * sh["deficit"] * integral * fade)
         b = self._bubble(s, h)
         psi -= np.where((b > 0) & (h > 0), g * c.reverse_flow_fraction * u * h * b * b, 0.0)
         if unsteady and c.shedding_amplitude > 0:

@@ -17,11 +17,14 @@ host's map fits agree in definition. The columns are `[v_x, v_y, v_z, w_x, w_y, 
 Convention for omega (keep it consistent with the host model's eq 5.6): omega is the
 rotation-like coefficient of eq 5.3, not the vorticity. For a rigid rotation
 w = Omega x r the fit returns omega = Omega exactly, while the curl is 2 Omega. For a
-general linear field w = v + G r the fit over a box with second moments
-s_x = s_y (rotor plane) > s_z gives omega_z = (G_yx - G_xy) / 2 (half the curl) and
+general linear field w = v + G r (G_ij = d w_i / d r_j) the fit over a box with second
+moments s_x = s_y (rotor plane) > s_z gives omega_z = (G_yx - G_xy) / 2 (half the curl)
+and
     omega_x = (s_y G_zy - s_z G_yz) / (s_y + s_z),
-    omega_y = (s_x G_xz - s_z G_zx) / (s_x + s_z)  (weighted toward the in-plane
-gradient of the normal component, which is what the rotor disc feels in eq 5.6).
+    omega_y = (s_z G_xz - s_x G_zx) / (s_x + s_z),
+weighted toward the in-plane gradients of the normal component (d w_z / dy,
+-d w_z / dx), which is what the rotor disc feels in eq 5.6; a flat fit volume
+(`LocalWindFit(volume_m=(1.3, 1.3, ~0))`) gives exactly those.
 """
 
 from __future__ import annotations

@@ -11,8 +11,9 @@ centreline speed equals the exit speed at the fan):
                                       the axis, entrainment inflow outside)
     u_theta = swirl U0 (x0 / X)^2 (r / r_half) exp(-xi)      (fan swirl, decays faster)
 
-faded to zero behind the fan. The fans face each other horizontally (fan A blows toward
-fan B and vice versa); their jets pass each other at different heights and collide, the
+faded to zero within half a diameter behind the fan. The fans face each other
+horizontally (fan A blows toward fan B and vice versa); their jets pass each other at
+different heights and collide, the
 superposition giving the shear and cancelling flow the reference mapped (7.24 m/s at
 the source, model error 3-11 % of it, Fig 3.14-3.15).
 
@@ -99,7 +100,8 @@ class FansIndoor(WindField):
         radial = rel - np.outer(x, axis)
         r = np.linalg.norm(radial, axis=1)
         big_x = np.maximum(x + self.x0, 0.5 * self.x0)
-        fade = 0.5 * (1.0 + np.tanh(x / (0.25 * c.fan_diameter_m)))
+        # Full strength from the fan plane on, gone half a diameter behind the fan.
+        fade = 0.5 * (1.0 + np.tanh((x + 0.25 * c.fan_diameter_m) / (0.08 * c.fan_diameter_m)))
         u_c = c.exit_speed_m_s * self.x0 / big_x
         r_half = c.spreading_rate * big_x
         xi = np.log(2.0) * (r / r_half) ** 2
