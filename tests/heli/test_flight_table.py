@@ -3,7 +3,6 @@
 import numpy as np
 import pandas as pd
 import pytest
-
 from airwake.record.flight_table import (
     CONTRACT_COLUMNS,
     FlightTableError,

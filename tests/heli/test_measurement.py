@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-
 from airwake.heli import MEAS_CHANNELS, load_spec
 from airwake.heli.integrate import simulate
 from airwake.heli.measurement import predict_measurements

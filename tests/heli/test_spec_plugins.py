@@ -2,13 +2,12 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from airwake.heli import default_model, load_plugin, load_spec, save_spec
 from airwake.heli.effects.base import EffectError, registered_effects
 from airwake.heli.plugins import forget_plugin
 from airwake.heli.spec import SpecError
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 MODEL = default_model()
 SPECS = MODEL.parameter_specs()

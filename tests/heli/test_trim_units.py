@@ -32,7 +32,8 @@ def test_table51_hover_matches_the_reference_anchors():
     assert 5.0 < np.degrees(tr.u[0]) < 6.0  # collective
     mr = m["main_rotor"].parameters()
     rho = m["atmosphere"].parameters()["air_density_kg_m3"]
-    lock = rho * mr["chord_m"] * mr["lift_slope_per_rad"] * mr["radius_m"] ** 4 / mr["flap_inertia_kg_m2"]
+    lock = rho * mr["chord_m"] * mr["lift_slope_per_rad"] * mr["radius_m"] ** 4
+    lock /= mr["flap_inertia_kg_m2"]
     assert lock == pytest.approx(4.49, abs=0.01)
     assert lock == pytest.approx(mr["lock_number"], rel=0.01)
 

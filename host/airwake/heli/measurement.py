@@ -64,7 +64,9 @@ def flight_arrays(model: HeliModel, flight) -> FlightArrays:
         try:
             return np.asarray(cols[name], dtype=float)
         except KeyError:
-            raise KeyError(f"flight has no column {name!r} (needed by the measurement model)") from None
+            raise KeyError(
+                f"flight has no column {name!r} (needed by the measurement model)"
+            ) from None
 
     t = get("t_s")
     x = np.zeros((t.size, model.n_states))
@@ -191,7 +193,7 @@ def reconstruct_hidden(
     scale = np.maximum(np.abs(h), 1e-6)
     change = np.inf
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 — `it` is reported
         x[:, hid] = hs
         g = rates(x, u, w, env) - hs @ a0.T
         b = g @ vinv.T

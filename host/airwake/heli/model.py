@@ -163,12 +163,15 @@ class HeliModel:
             vec = np.asarray(values, dtype=float)
             if vec.shape != (len(self.parameter_names),):
                 raise ValueError(
-                    f"parameter vector has shape {vec.shape}, expected ({len(self.parameter_names)},)"
+                    f"parameter vector has shape {vec.shape}, "
+                    f"expected ({len(self.parameter_names)},)"
                 )
             updates = dict(zip(self.parameter_names, vec.tolist(), strict=True))
         new = []
         for e in self.effects:
-            mine = {k.split(".", 1)[1]: v for k, v in updates.items() if k.split(".", 1)[0] == e.name}
+            mine = {
+                k.split(".", 1)[1]: v for k, v in updates.items() if k.split(".", 1)[0] == e.name
+            }
             new.append(e.with_values(**mine) if mine else e)
         return HeliModel(new)
 

@@ -97,7 +97,8 @@ def spec_dict(model: HeliModel, name: str = "", description: str = "", base_dir=
     head = {"name": name, "description": description, "effects": model.effect_names}
     if plugins:
         head["plugins"] = plugins
-    return {"model": head, "effects": {e.name: e.parameters() for e in model.effects if e.PARAMETERS}}
+    values = {e.name: e.parameters() for e in model.effects if e.PARAMETERS}
+    return {"model": head, "effects": values}
 
 
 def save_spec(model: HeliModel, path, name: str = "", description: str = "") -> Path:

@@ -86,7 +86,9 @@ def trim(
     x, u = unpack(z[None])
     err = float(np.max(np.abs(resid(z[None])[0])))
     if err > 1e-6:
-        raise TrimError(f"trim did not converge: max residual {err:.3g} after {max_iter} iterations")
+        raise TrimError(
+            f"trim did not converge: max residual {err:.3g} after {max_iter} iterations"
+        )
     return Trim(x[0], u[0], err, max_iter)
 
 

@@ -133,8 +133,8 @@ def validate_flight_table(
             if out.any():
                 i = int(np.argmax(out))
                 raise FlightTableError(
-                    f"{source}: column '{c}' value {float(v[i])!r} at row {i} outside the plausible "
-                    f"range [{rng[0]:g}, {rng[1]:g}] (wrong unit? names carry SI units)"
+                    f"{source}: column '{c}' value {float(v[i])!r} at row {i} outside the "
+                    f"plausible range [{rng[0]:g}, {rng[1]:g}] (wrong unit? names carry SI units)"
                 )
     if TIME in df.columns:
         t = df[TIME].to_numpy(dtype=float)
@@ -143,8 +143,8 @@ def validate_flight_table(
             i = int(np.argmax(dt <= 0)) + 1
             what = "duplicated" if dt[i - 1] == 0 else "decreasing"
             raise FlightTableError(
-                f"{source}: time '{TIME}' is {what} at row {i} ({float(t[i - 1])!r} -> {float(t[i])!r}); "
-                "it must increase strictly"
+                f"{source}: time '{TIME}' is {what} at row {i} "
+                f"({float(t[i - 1])!r} -> {float(t[i])!r}); it must increase strictly"
             )
     return df
 
@@ -170,7 +170,8 @@ def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS) -> Fligh
                 first = fh.readline()
             if first.startswith(_CSV_META):
                 metadata = json.loads(first[len(_CSV_META) :])
-            df = pd.read_csv(p, comment=None, skiprows=1 if metadata or first.startswith("#") else 0)
+            skip = 1 if metadata or first.startswith("#") else 0
+            df = pd.read_csv(p, skiprows=skip)
         else:
             raise FlightTableError(
                 f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv"
@@ -202,5 +203,7 @@ def write_flight_table(df: pd.DataFrame, path, metadata: Mapping | None = None) 
             fh.write(f"{_CSV_META} {text}\n")
             df.to_csv(fh, index=False, float_format="%.17g")
     else:
-        raise FlightTableError(f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv")
+        raise FlightTableError(
+            f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv"
+        )
     return p

@@ -71,7 +71,9 @@ class Parameter:
         try:
             v = float(value)
         except (TypeError, ValueError):
-            raise ValueError(f"{effect}: parameter '{self.name}' = {value!r} is not a number") from None
+            raise ValueError(
+                f"{effect}: parameter '{self.name}' = {value!r} is not a number"
+            ) from None
         lo, hi = self.bounds
         if not math.isfinite(v) or not lo <= v <= hi:
             raise ValueError(

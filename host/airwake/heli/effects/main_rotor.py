@@ -90,7 +90,7 @@ class MainRotor(Effect):
     )
     STATES = (
         State("beta_0_rad", "rad", "coning"),
-        State("beta_c_rad", "rad", "longitudinal flapping (rotor frame cos psi; + = disk tilted forward)"),
+        State("beta_c_rad", "rad", "longitudinal flapping (cos psi; + = disk tilted forward)"),
         State("beta_s_rad", "rad", "lateral flapping (rotor frame sin psi)"),
         State("beta_0_dot_rad_s", "rad/s", ""),
         State("beta_c_dot_rad_s", "rad/s", ""),
@@ -196,7 +196,7 @@ class MainRotor(Effect):
         cm = ctx._cache["main_rotor"]
         rf = ctx._cache["rotor_frame"]
         om = rf["om"]
-        a, b, theta, beta = cm["a"], cm["b"], cm["theta"], cm["beta"]
+        theta, beta = cm["theta"], cm["beta"]
         t0, t1, t2, i0tt, i1tt = cm["t0"], cm["t1"], cm["t2"], cm["i0tt"], cm["i1tt"]
         c = cm["c"] - col(ctx.inflow_0)
         d = cm["d"] - (col(ctx.inflow_c) * COS + col(ctx.inflow_s) * SIN)
