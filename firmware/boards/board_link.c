@@ -169,6 +169,9 @@ uint64_t board_link_poll(board_link_t *l, uint32_t extra_overruns)
     size_t n;
     l->rx_time_us = hal->micros();
     while ((n = hal->uart_read(l->port, buf, sizeof(buf))) > 0) {
+        if (l->on_bytes != NULL) {
+            l->on_bytes(l->ctx, buf, n);
+        }
         (void)aw_decoder_feed(&l->dec, buf, n);
     }
     uint64_t now = hal->micros();

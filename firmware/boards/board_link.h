@@ -24,6 +24,7 @@
 #define BOARD_LINK_CONFIG_MAGIC 0x43425741u /* "AWBC" */
 
 typedef void (*board_link_rx_t)(void *ctx, const aw_frame_t *frame);
+typedef void (*board_link_tap_t)(void *ctx, const uint8_t *data, size_t len);
 
 typedef struct {
     const hal_t *hal;
@@ -45,6 +46,7 @@ typedef struct {
     uint32_t task_max_us;
     uint64_t rx_time_us; /* when the bytes being decoded were read */
     board_link_rx_t on_rx;
+    board_link_tap_t on_bytes; /* optional: every byte read from the port (base relay) */
     void *ctx;
     aw_decoder_t dec;
 } board_link_t;

@@ -154,12 +154,36 @@ static int test_base_measures_five_rc_channels_into_pilot_inputs(void)
     return 0;
 }
 
+/* The rover's clock can only be mapped if host time-sync requests reach it. */
+static int test_base_relays_host_bytes_to_the_rover_unchanged(void)
+{
+    const hal_t *hal = fake_hal_init();
+    fake_map_port(HAL_PORT_ROVER, true);
+    board_init(hal);
+    test_run_until(hal, fake.now_us + 10000u);
+    fake_uart_take(HAL_PORT_ROVER, host_stream, sizeof(host_stream));
+    uint8_t wire[AW_MAX_WIRE_SIZE];
+    aw_time_sync_request_t req = {.request_id = 5, .host_time_us = 99};
+    int n = aw_encode_msg(wire, sizeof(wire), AW_ID_TIME_SYNC_REQUEST, 0, AW_BOARD_HOST, 0, &req);
+    CHECK(n > 0);
+    fake_uart_feed(HAL_PORT_HOST, wire, (size_t)n);
+    test_run_until(hal, fake.now_us + 10000u);
+    size_t got = fake_uart_take(HAL_PORT_ROVER, host_stream, sizeof(host_stream));
+    CHECK(got == (size_t)n && memcmp(host_stream, wire, (size_t)n) == 0);
+    /* and the base answers it itself on the host port */
+    test_frames_init(&out);
+    test_frames_take(&out, HAL_PORT_HOST);
+    CHECK(test_count(&out, AW_ID_TIME_SYNC_REPLY) == 1);
+    return 0;
+}
+
 int main(void)
 {
     int fails = 0;
     fails += test_base_forwards_rover_frames_byte_exact();
     fails += test_base_passes_corrupt_rover_frames_on_and_keeps_the_next();
     fails += test_base_measures_five_rc_channels_into_pilot_inputs();
+    fails += test_base_relays_host_bytes_to_the_rover_unchanged();
     if (fails) {
         fprintf(stderr, "test_board_base: %d failed\n", fails);
         return 1;

@@ -92,6 +92,16 @@ class StepResult:
         return {k: bytes(v) for k, v in out.items()}
 
 
+def _pixels_f32(values) -> bytes:
+    """128 little-endian float32 from an array of 128 or a scalar."""
+    a = np.asarray(values, dtype="<f4")
+    if a.shape == (PIXELS,):
+        return a.tobytes()
+    if a.ndim == 0:
+        return np.full(PIXELS, a, dtype="<f4").tobytes()
+    raise ValueError(f"expected 128 pixel values or one scalar, got shape {a.shape}")
+
+
 def _index(name: str | int, names: Sequence[str], what: str) -> int:
     if isinstance(name, int):
         if 0 <= name < len(names):
@@ -242,9 +252,7 @@ class NativeBoard:
         exposure and dark level in counts, per pixel (arrays of 128 or scalars)."""
         if not 0 <= sensor < 4:
             raise ValueError(f"sensor {sensor}: expected 0..3")
-        body = (np.broadcast_to(np.asarray(rate, "<f4"), (PIXELS,)).tobytes()
-                + np.broadcast_to(np.asarray(dark, "<f4"), (PIXELS,)).tobytes())
-        self._put(LINE, sensor, t_us, body)
+        self._put(LINE, sensor, t_us, _pixels_f32(rate) + _pixels_f32(dark))
 
     def imu(self, t_us: int, gyro_rad_s, accel_m_s2, mag_ut=(0.0, 0.0, 0.0),
             temp_c: float = 25.0) -> None:

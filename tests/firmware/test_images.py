@@ -8,6 +8,7 @@ The images are built if missing (`make -C firmware teensy32`).
 
 from __future__ import annotations
 
+import fcntl
 import shutil
 import subprocess
 from pathlib import Path
@@ -63,8 +64,12 @@ def word(memory: dict[int, int], addr: int) -> int:
 @pytest.fixture(scope="module")
 def images() -> dict[str, dict[int, int]]:
     if not all((IMAGES / f"{b}.hex").exists() for b in BOARDS):
-        subprocess.run(["make", "-s", "-C", str(REPO / "firmware"), "teensy32"], check=True,
-                       capture_output=True)
+        lock_path = REPO / "build" / ".teensy32-build.lock"
+        lock_path.parent.mkdir(parents=True, exist_ok=True)
+        with open(lock_path, "w") as lock:  # one make at a time under pytest-xdist
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            subprocess.run(["make", "-s", "-C", str(REPO / "firmware"), "teensy32"],
+                           check=True, capture_output=True)
     return {b: parse_ihex(IMAGES / f"{b}.hex") for b in BOARDS}
 
 

@@ -283,3 +283,30 @@ def test_advance_refuses_to_go_back_in_time():
         board.imu(20_000, (0, 0, 0), (0, 0, 0))
         with pytest.raises(ValueError):
             board.advance(15_000)
+
+
+def test_rover_answers_host_time_sync_through_the_base():
+    # the host maps the rover's clock too: its requests cross the base to the rover and
+    # the rover's reply comes back among the forwarded frames
+    request = encode_frame(by_name("time_sync_request").record(request_id=31, host_time_us=7))
+    with NativeBoard("base", ports={"host": "sim", "rover": "sim"}, flavour="asan") as base, \
+            NativeBoard("rover", ports={"host": "sim"}, flavour="asan",
+                        clock_offset_us=1_000_000) as rover:
+        host = bytearray()
+        for k in range(1, 60):  # the XBee link: one 5 ms step of latency each way
+            t = k * 5_000
+            if t == 100_000:
+                base.uart(t, "host", request)
+            to_rover = base.advance(t).uart
+            host += to_rover.get("host", b"")
+            if to_rover.get("rover"):
+                rover.uart(t, "host", to_rover["rover"])
+            from_rover = rover.advance(t).uart.get("host", b"")
+            if from_rover:
+                base.uart(t, "rover", from_rover)
+        host += base.advance(300_000).uart.get("host", b"")
+    replies = {f.origin: f.msg for f in decode(bytes(host))[0] if f.name == "time_sync_reply"}
+    assert set(replies) == {3, 4}  # rover and base both answered request 31
+    assert replies[3].request_id == replies[4].request_id == 31
+    assert replies[3].board_rx_time_us > 1_000_000  # on the rover's own (offset) clock
+    assert replies[4].board_rx_time_us < 200_000

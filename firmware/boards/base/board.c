@@ -20,12 +20,23 @@ static uint64_t tick_us(uint64_t t0, uint32_t k, uint32_t rate_hz)
     return t0 + ((uint64_t)k * 1000000u + rate_hz - 1u) / rate_hz;
 }
 
+/* Host -> rover: the base passes the host's bytes on unchanged (the rover answers
+ * time-sync requests itself; its reply comes back through the forwarder). */
+static void relay_host_bytes(void *ctx, const uint8_t *data, size_t len)
+{
+    base_board_t *b = ctx;
+    if (!b->link.hal->uart_write(HAL_PORT_ROVER, data, len)) {
+        b->relay_dropped_bytes += (uint32_t)len;
+    }
+}
+
 void board_init(const hal_t *hal)
 {
     base_board_t *b = &base_board;
     memset(b, 0, sizeof(*b));
     board_link_init(&b->link, hal, BOARD_ID, HAL_PORT_HOST, schema_ids,
                     (uint8_t)sizeof(schema_ids), NULL, b);
+    b->link.on_bytes = relay_host_bytes;
     nav_ports_init(&b->nav, hal, &b->link, NAV_STATUS_ONLY);
     b->rc_cfg = pwm_capture_default_cfg();
     for (int i = 0; i < BASE_RC_CHANNELS; i++) {

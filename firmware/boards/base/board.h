@@ -9,6 +9,10 @@
  * bytes are not decoded or changed: a frame keeps the rover's origin id, sequence
  * number and CRC, and corruption on the radio link reaches the host's decoder
  * (which counts it) instead of being hidden here.
+ *
+ * The other way, every byte the host sends the base is also passed to the rover
+ * unchanged, so the rover answers the host's time-sync requests (each reply carries
+ * its origin board) and the host can map the rover's clock too.
  */
 #ifndef AW_BOARD_BASE_H
 #define AW_BOARD_BASE_H
@@ -41,6 +45,7 @@ typedef struct {
     pwm_capture_cfg_t rc_cfg;
     pwm_channel_t rc[BASE_RC_CHANNELS];
     forwarder_t fwd;
+    uint32_t relay_dropped_bytes; /* host -> rover bytes the rover port refused */
     uint64_t t0_us;
     uint32_t pilot_k;
 } base_board_t;
