@@ -213,6 +213,7 @@ class Vn200Parser(C.Structure):
         ("bad_headers", C.c_uint32),
         ("oversize", C.c_uint32),
         ("bytes_dropped", C.c_uint32),
+        ("later_syncs", C.c_uint16),
         ("buf", C.c_uint8 * 512),
     ]
 
@@ -344,6 +345,7 @@ class SbpParser(C.Structure):
         ("undecoded", C.c_uint32),
         ("bad_length", C.c_uint32),
         ("bytes_dropped", C.c_uint32),
+        ("later_syncs", C.c_uint16),
         ("buf", C.c_uint8 * 263),
     ]
 

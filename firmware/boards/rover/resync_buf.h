@@ -25,4 +25,14 @@ static inline uint32_t resync_hunt(uint8_t *buf, size_t *n, uint8_t sync)
     return (uint32_t)k;
 }
 
+/* How many `sync` bytes follow the front byte (candidates for a rescan). */
+static inline uint16_t resync_count(const uint8_t *buf, size_t n, uint8_t sync)
+{
+    uint16_t c = 0;
+    for (size_t k = 1; k < n; k++) {
+        c = (uint16_t)(c + (buf[k] == sync));
+    }
+    return c;
+}
+
 #endif

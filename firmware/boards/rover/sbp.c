@@ -190,6 +190,7 @@ static void deliver(sbp_parser_t *p)
 static void discard(sbp_parser_t *p, size_t k)
 {
     resync_discard(p->buf, &p->n, k);
+    p->later_syncs = resync_count(p->buf, p->n, SBP_PREAMBLE);
 }
 
 static void hunt(sbp_parser_t *p)
@@ -211,6 +212,9 @@ static int frame_ok(const uint8_t *b, size_t total)
  * Each later candidate is CRC-checked once, when its last byte arrives. */
 static int later_frame_completed(sbp_parser_t *p)
 {
+    if (p->later_syncs == 0) {
+        return 0; /* the usual case: no other sync byte since the front one */
+    }
     for (size_t j = 1; j + HEADER_LEN <= p->n; j++) {
         if (p->buf[j] == SBP_PREAMBLE && HEADER_LEN + p->buf[j + 5] + 2u == p->n - j &&
             frame_ok(p->buf + j, p->n - j)) {
@@ -251,6 +255,9 @@ void sbp_parser_feed(sbp_parser_t *p, const uint8_t *data, size_t len)
         if (p->n == 0 && data[i] != SBP_PREAMBLE) {
             p->bytes_dropped++;
             continue;
+        }
+        if (p->n > 0 && data[i] == SBP_PREAMBLE) {
+            p->later_syncs++;
         }
         p->buf[p->n++] = data[i];
         process(p);

@@ -113,6 +113,7 @@ typedef struct {
     uint32_t undecoded;     /* valid frames of types we do not decode */
     uint32_t bad_length;    /* known type, unexpected payload length */
     uint32_t bytes_dropped;
+    uint16_t later_syncs; /* sync bytes buffered after the front one */
     uint8_t buf[SBP_MAX_FRAME];
 } sbp_parser_t;
 

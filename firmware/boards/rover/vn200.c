@@ -158,6 +158,7 @@ static void decode(vn200_parser_t *p)
 static void discard(vn200_parser_t *p, size_t k)
 {
     resync_discard(p->buf, &p->n, k);
+    p->later_syncs = resync_count(p->buf, p->n, VN200_SYNC);
 }
 
 static void hunt(vn200_parser_t *p)
@@ -171,6 +172,9 @@ static void hunt(vn200_parser_t *p)
  * false length is reached. Each later candidate is CRC-checked once, when complete. */
 static int later_packet_completed(vn200_parser_t *p)
 {
+    if (p->later_syncs == 0) {
+        return 0; /* the usual case: no other sync byte since the front one */
+    }
     for (size_t j = 1; j + 2 < p->n; j++) {
         size_t total = 0;
         if (p->buf[j] == VN200_SYNC && header(p->buf + j, p->n - j, &total) == HDR_OK && total == p->n - j &&
@@ -222,6 +226,9 @@ void vn200_parser_feed(vn200_parser_t *p, const uint8_t *data, size_t len)
         if (p->n == 0 && data[i] != VN200_SYNC) {
             p->bytes_dropped++;
             continue;
+        }
+        if (p->n > 0 && data[i] == VN200_SYNC) {
+            p->later_syncs++;
         }
         p->buf[p->n++] = data[i];
         process(p);

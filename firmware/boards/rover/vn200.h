@@ -63,6 +63,7 @@ typedef struct {
     uint32_t bad_headers;  /* unsupported/invalid group byte or mask */
     uint32_t oversize;     /* header asked for more than VN200_MAX_PACKET */
     uint32_t bytes_dropped; /* bytes skipped while hunting for a sync */
+    uint16_t later_syncs; /* sync bytes buffered after the front one */
     uint8_t buf[VN200_MAX_PACKET];
 } vn200_parser_t;
 
