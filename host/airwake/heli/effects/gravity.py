@@ -1,4 +1,4 @@
-"""Gravity and the atmosphere."""
+"""Gravity (eq 5.2)."""
 
 from __future__ import annotations
 
@@ -24,16 +24,3 @@ class Gravity(Effect):
         mg = ctx.mass_kg * p.g_m_s2
         f = np.column_stack([-st, ct * sf, ct * cf]) * np.reshape(mg, (-1, 1))
         ctx.add_load(self.name, f, 0.0, sensed=False)
-
-
-@register_effect("atmosphere")
-class Atmosphere(Effect):
-    """Air density used by every aerodynamic effect (Pitt-Peters normalisation, tail
-    rotor, fuselage, empennage)."""
-
-    PARAMETERS = (
-        Parameter("air_density_kg_m3", 1.225, "kg/m^3", (0.5, 1.5), "Table 5.1 (rho)", fixed=True),
-    )
-
-    def environment(self, ctx, p) -> None:
-        ctx.air_density_kg_m3 = p.air_density_kg_m3
