@@ -249,6 +249,33 @@ class LosaFrames:
         return self.t_s.size
 
 
+@dataclass(frozen=True, eq=False)
+class LosaLineInputs:
+    """K lines per array for the native TSL1401 model: `rate_counts_per_us` (K, 4, 128)
+    ADC counts per us of integration, `dark_counts` (K, 4, 128); truth as in
+    `LosaFrames` (`pixel`, `slot`, `led_pos_t_m`)."""
+
+    t_s: np.ndarray
+    rate_counts_per_us: np.ndarray
+    dark_counts: np.ndarray
+    pixel: np.ndarray
+    slot: np.ndarray
+    led_pos_t_m: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class _Irradiance:
+    t_s: np.ndarray
+    volts_per_s: np.ndarray  # (K, 4, n) light signal rate incl. ambient, before PRNU
+    pixel: np.ndarray
+    slot: np.ndarray
+    peak_v_per_s: np.ndarray
+    led_pos_t_m: np.ndarray
+
+
+_UJ_CM2_PER_J_M2 = 100.0  # 1 J/m^2 = 100 uJ/cm^2
+
+
 class LosaOptics:
     """Renders TSL1401 lines for given marker poses; stateless apart from the per-pixel
     fixed-pattern noise drawn once at construction (a property of the hardware)."""
@@ -290,13 +317,78 @@ class LosaOptics:
         current; 0 = dark frame), exposure (K,) s. `noise=False` gives the noiseless
         signal chain (no shot/read noise, no fixed-pattern noise) for geometry tests."""
         c = self.config
+        lit = self._irradiance(t_s, marker_pos_t_m, marker_quat_wxyz, led_index, led_drive)
+        k = lit.t_s.size
+        expo = np.broadcast_to(np.asarray(c.exposure_s if exposure_s is None else exposure_s,
+                                          dtype=float), (k,))
+        light_v = lit.volts_per_s * expo[:, None, None]
+        dark_v = c.dark_offset_v + c.dark_current_v_per_s * expo[:, None, None]
+        if noise:
+            light_v = light_v * self.pixel_gain
+            shot = np.sqrt(np.maximum(light_v, 0.0) * c.conversion_gain_v_per_e)
+            volts = (dark_v + self.pixel_dark_v + light_v
+                     + self.rng.standard_normal(light_v.shape) * np.hypot(shot, c.read_noise_v))
+        else:
+            volts = dark_v + light_v
+        volts = np.clip(volts, 0.0, c.saturation_v)
+        counts = np.clip(np.rint(volts / c.adc_full_scale_v * c.adc_max), 0, c.adc_max)
+        return LosaFrames(
+            t_s=lit.t_s,
+            exposure_s=np.array(expo),
+            counts=counts.astype(np.uint16),
+            pixel=lit.pixel,
+            slot=lit.slot,
+            peak_v=lit.peak_v_per_s * expo[:, None],
+            led_pos_t_m=lit.led_pos_t_m,
+        )
+
+    def line_inputs(
+        self,
+        t_s: np.ndarray,
+        marker_pos_t_m: np.ndarray,
+        marker_quat_wxyz: np.ndarray,
+        led_index: np.ndarray | int,
+        led_drive: np.ndarray | float,
+        noise: bool = True,
+    ) -> LosaLineInputs:
+        """Per-pixel irradiance for the native board's TSL1401 model (the sim channel's
+        LINE record): `rate` in ADC counts per us of integration and `dark` in counts.
+
+        The board integrates `rate` over the exposure it chooses, adds `dark` and
+        saturates, so exposure control and saturation stay the firmware's business.
+        With `noise`, PRNU scales `rate`, shot noise for the nominal `exposure_s` is
+        folded into `rate`, and DSNU + read noise (fresh per line) into `dark`.
+        """
+        c = self.config
+        lit = self._irradiance(t_s, marker_pos_t_m, marker_quat_wxyz, led_index, led_drive)
+        volts_to_counts = c.adc_max / c.adc_full_scale_v
+        rate_v_s = lit.volts_per_s
+        expo = c.exposure_s
+        dark_v = np.full(rate_v_s.shape, c.dark_offset_v + c.dark_current_v_per_s * expo)
+        if noise:
+            rate_v_s = rate_v_s * self.pixel_gain
+            shot_v = np.sqrt(np.maximum(rate_v_s * expo, 0.0) * c.conversion_gain_v_per_e)
+            rate_v_s = rate_v_s + self.rng.standard_normal(rate_v_s.shape) * shot_v / expo
+            dark_v = (dark_v + self.pixel_dark_v
+                      + c.read_noise_v * self.rng.standard_normal(dark_v.shape))
+        return LosaLineInputs(
+            t_s=lit.t_s,
+            rate_counts_per_us=rate_v_s * 1e-6 * volts_to_counts,
+            dark_counts=dark_v * volts_to_counts,
+            pixel=lit.pixel,
+            slot=lit.slot,
+            led_pos_t_m=lit.led_pos_t_m,
+        )
+
+    def _irradiance(self, t_s, marker_pos_t_m, marker_quat_wxyz, led_index, led_drive
+                    ) -> _Irradiance:
+        """Noiseless light signal (V/s per pixel, before PRNU) and the geometric truth."""
+        c = self.config
         g = c.geometry
         t = np.atleast_1d(np.asarray(t_s, dtype=float))
         k = t.size
         led_index = np.broadcast_to(np.asarray(led_index, dtype=int), (k,))
         drive = np.clip(np.broadcast_to(np.asarray(led_drive, dtype=float), (k,)), 0.0, 1.0)
-        expo = np.broadcast_to(np.asarray(c.exposure_s if exposure_s is None else exposure_s,
-                                          dtype=float), (k,))
         led_pos, led_axis = self.led_pose(np.broadcast_to(marker_pos_t_m, (k, 3)),
                                           np.broadcast_to(marker_quat_wxyz, (k, 4)), led_index)
 
@@ -312,51 +404,31 @@ class LosaOptics:
                                np.nan)
         slot_truth = np.where(any_on, best, -1)
 
-        amp_v = self._led_signal_v(led_pos, led_axis, drive, expo)  # (K, 4, S)
+        amp = self._led_signal_v_per_s(led_pos, led_axis, drive)  # (K, 4, S)
         near = np.isfinite(pix) & (pix > -0.5 - c.window_px) & (pix < g.n_pixels - 0.5
                                                                  + c.window_px)
-        near &= amp_v > 0
+        near &= amp > 0
         kk, mm, ss = np.nonzero(near)
-        peak_v = np.zeros((k, N_MODULES))
+        peak = np.zeros((k, N_MODULES))
         if kk.size:
             line = self._pattern(led_pos[kk], mm, ss, pix[kk, mm, ss])  # (P, W) intensities
             centre_px = np.rint(pix[kk, mm, ss]).astype(int)
             cols = centre_px[:, None] + np.arange(-c.window_px, c.window_px + 1)
-            weights = line * amp_v[kk, mm, ss][:, None]
+            weights = line * amp[kk, mm, ss][:, None]
             inside = (cols >= 0) & (cols < g.n_pixels)
             flat = ((kk * N_MODULES + mm)[:, None] * g.n_pixels + cols)[inside]
             signal += np.bincount(flat, weights=weights[inside],
                                   minlength=k * N_MODULES * g.n_pixels).reshape(signal.shape)
             lands = any_on[kk, mm] & (ss == best[kk, mm])
-            peak_v[kk[lands], mm[lands]] = weights[lands].max(axis=1)
+            peak[kk[lands], mm[lands]] = weights[lands].max(axis=1)
+        ambient = (c.responsivity_v_per_uj_cm2 * _UJ_CM2_PER_J_M2 * c.filter_transmission
+                   * c.ambient_irradiance_w_m2)
+        return _Irradiance(t, signal + ambient, pixel_truth, slot_truth.astype(np.int64), peak,
+                           led_pos)
 
-        to_uj_cm2 = 100.0  # 1 J/m^2 = 100 uJ/cm^2
-        ambient_v = (c.responsivity_v_per_uj_cm2 * to_uj_cm2 * c.filter_transmission
-                     * c.ambient_irradiance_w_m2 * expo)
-        light_v = signal + ambient_v[:, None, None]
-        dark_v = c.dark_offset_v + c.dark_current_v_per_s * expo[:, None, None]
-        if noise:
-            light_v = light_v * self.pixel_gain
-            shot = np.sqrt(np.maximum(light_v, 0.0) * c.conversion_gain_v_per_e)
-            volts = (dark_v + self.pixel_dark_v + light_v
-                     + self.rng.standard_normal(light_v.shape) * np.hypot(shot, c.read_noise_v))
-        else:
-            volts = dark_v + light_v
-        volts = np.clip(volts, 0.0, c.saturation_v)
-        counts = np.clip(np.rint(volts / c.adc_full_scale_v * c.adc_max), 0, c.adc_max)
-        return LosaFrames(
-            t_s=t,
-            exposure_s=np.array(expo),
-            counts=counts.astype(np.uint16),
-            pixel=pixel_truth,
-            slot=slot_truth.astype(np.int64),
-            peak_v=peak_v,
-            led_pos_t_m=led_pos,
-        )
-
-    def _led_signal_v(self, led_pos: np.ndarray, led_axis: np.ndarray, drive: np.ndarray,
-                      expo: np.ndarray) -> np.ndarray:
-        """Volts per unit Fresnel intensity for each (frame, module, slot): (K, 4, S)."""
+    def _led_signal_v_per_s(self, led_pos: np.ndarray, led_axis: np.ndarray, drive: np.ndarray
+                            ) -> np.ndarray:
+        """Volts per second of integration per unit Fresnel intensity, (K, 4, S)."""
         c = self.config
         g = c.geometry
         centre, u, n, _ = g.module_frames()
@@ -371,8 +443,8 @@ class LosaOptics:
         cos_in = np.einsum("kmsi,mi->kms", -ray, n) / r  # incidence on the array
         irradiance = (c.led_max_intensity_w_sr * drive[:, None, None] * pattern / r2
                       * np.maximum(cos_in, 0.0))
-        return (c.responsivity_v_per_uj_cm2 * 100.0 * c.filter_transmission * irradiance
-                * expo[:, None, None])
+        return (c.responsivity_v_per_uj_cm2 * _UJ_CM2_PER_J_M2 * c.filter_transmission
+                * irradiance)
 
     def _pattern(self, led_pos: np.ndarray, module: np.ndarray, slot: np.ndarray,
                  pix_img: np.ndarray) -> np.ndarray:

@@ -137,3 +137,20 @@ def test_frame_rate_default_is_about_320_hz():
     assert LosaConfig().frame_rate_hz == pytest.approx(320.0)
     with pytest.raises(ValueError, match="exposure_s"):
         LosaConfig(exposure_s=5e-3)  # longer than a 320 Hz frame
+
+
+def test_line_inputs_integrate_to_the_rendered_frame(optics):
+    # The native board integrates rate x exposure itself: both paths must agree.
+    q = euler_to_quat(np.array([0.1, 0.2, 0.3]))
+    pos = (0.2, 0.1, 2.5)
+    led = facing_led(q)
+    lines = optics.line_inputs([0.0], pos, q, led, 0.8, noise=False)
+    fr = optics.frames([0.0], pos, q, led, 0.8, exposure_s=optics.config.exposure_s,
+                       noise=False)
+    integrated = np.clip(lines.rate_counts_per_us * optics.config.exposure_s * 1e6
+                         + lines.dark_counts, 0, None)
+    assert np.abs(np.rint(integrated) - fr.counts).max() <= 1
+    assert np.array_equal(lines.pixel, fr.pixel)
+    noisy = optics.line_inputs(np.zeros(200), pos, q, led, 0.8)
+    assert noisy.dark_counts.std(axis=0).mean() == pytest.approx(
+        optics.config.read_noise_v / optics.config.adc_full_scale_v * 4095, rel=0.2)

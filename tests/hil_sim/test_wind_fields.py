@@ -173,3 +173,15 @@ def test_fan_jet_turbulence_intensity_on_axis(fans):
     mean = fans.mean_velocity_ned(0.0, p)
     ti = v[:, 0].std() / mean[0]
     assert ti == pytest.approx(c.turbulence_intensity, rel=0.3)
+
+
+@pytest.mark.parametrize("cfg", [{"type": "still_air"},
+                                 {"type": "uniform", "velocity_ned_m_s": [1.0, 2.0, 0.0],
+                                  "turbulence": SMALL_BOX},
+                                 {"type": "ship_airwake", "relative_wind_heading_deg": 15.0,
+                                  "turbulence": SMALL_BOX}])
+def test_describe_round_trips_through_build(cfg):
+    # Metadata written from describe() must rebuild the same field.
+    f = build_wind_field(cfg, rng=np.random.default_rng(1))
+    again = build_wind_field(f.describe(), rng=np.random.default_rng(1))
+    assert again.config == f.config and again.kind == f.kind

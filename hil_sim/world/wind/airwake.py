@@ -53,7 +53,7 @@ _RAMP_M = 0.5  # width of the wake onset at the step
 _SOFT_M = 1.0  # smoothing length of softplus
 _DIFF_M = 1e-3  # central-difference step of the stream function
 _DISPLACEMENT_TOP_M = 3.0  # the wake's displacement flow fades above this height ...
-_DISPLACEMENT_FADE_M = 4.0  # ... over this length (no vertical wind far above the ship)
+_DISPLACEMENT_FADE_M = 6.0  # ... over this length (no vertical wind far above the ship)
 
 
 def _airwake_turbulence() -> TurbulenceConfig:
