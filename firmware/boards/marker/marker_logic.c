@@ -161,7 +161,8 @@ void marker_imu_step(marker_state_t *st, const marker_cfg_t *cfg, uint32_t now_u
             finish_calibration(st, cfg, now_us);
             return;
         }
-        const uint32_t led = elapsed / (cfg->calib_us / MARKER_LEDS);
+        const uint32_t dwell = cfg->calib_us / MARKER_LEDS;
+        const uint32_t led = elapsed / (dwell ? dwell : 1u);
         if (led != st->sweep_led && led < MARKER_LEDS) {
             st->sweep_led = (uint8_t)led;
             st->sweep_led_start_us = now_us;
