@@ -68,6 +68,25 @@ bool board_link_send(board_link_t *l, uint8_t msg_id, const void *msg, uint32_t 
  * the heartbeat's buffer_overruns. Returns the link's next deadline (µs). */
 uint64_t board_link_poll(board_link_t *l, uint32_t extra_overruns);
 
+/* The k-th tick of a rate_hz schedule that started at t0 (µs): no rounding builds up. */
+static inline uint64_t board_tick_us(uint64_t t0, uint32_t k, uint32_t rate_hz)
+{
+    return t0 + ((uint64_t)k * 1000000u + rate_hz - 1u) / rate_hz;
+}
+
+/* True when tick *k is due at now; then *k moves past now (ticks missed while the
+ * board was busy are skipped, not bunched). */
+static inline bool board_tick_due(uint64_t t0, uint32_t *k, uint32_t rate_hz, uint64_t now)
+{
+    if (now < board_tick_us(t0, *k, rate_hz)) {
+        return false;
+    }
+    do {
+        (*k)++;
+    } while (board_tick_us(t0, *k, rate_hz) <= now);
+    return true;
+}
+
 /* Brackets one board_task() pass for the heartbeat's task_max_us. */
 void board_link_task_begin(board_link_t *l);
 void board_link_task_end(board_link_t *l);

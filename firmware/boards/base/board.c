@@ -15,11 +15,6 @@ static const hal_capture_t rc_capture[BASE_RC_CHANNELS] = {
     HAL_CAPTURE_RC1, HAL_CAPTURE_RC2, HAL_CAPTURE_RC3, HAL_CAPTURE_RC4, HAL_CAPTURE_RC5,
 };
 
-static uint64_t tick_us(uint64_t t0, uint32_t k, uint32_t rate_hz)
-{
-    return t0 + ((uint64_t)k * 1000000u + rate_hz - 1u) / rate_hz;
-}
-
 /* Host -> rover: the base passes the host's bytes on unchanged (the rover answers
  * time-sync requests itself; its reply comes back through the forwarder). */
 static void relay_host_bytes(void *ctx, const uint8_t *data, size_t len)
@@ -127,15 +122,12 @@ uint64_t board_task(const hal_t *hal)
     uint64_t due = nav_ports_poll(&b->nav);
 
     uint64_t now = hal->micros();
-    if (now >= tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ)) {
+    if (board_tick_due(b->t0_us, &b->pilot_k, BASE_PILOT_HZ, now)) {
         send_pilot_inputs(b, (uint32_t)now);
-        do {
-            b->pilot_k++;
-        } while (tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ) <= now);
     }
     board_link_task_end(&b->link);
 
-    uint64_t next_pilot = tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ);
+    uint64_t next_pilot = board_tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ);
     due = due < link_due ? due : link_due;
     return due < next_pilot ? due : next_pilot;
 }

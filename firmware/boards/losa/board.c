@@ -36,9 +36,8 @@ void board_init(const hal_t *hal)
     b->exposure_us = LOSA_INITIAL_EXPOSURE_US;
     tsl1401_init(hal, &b->tsl);
     b->imu_ok = mpu9250_init(hal, HAL_SPI_IMU, &b->imu);
-    uint64_t now = hal->micros();
-    b->next_frame_us = now;
-    b->next_imu_us = now;
+    b->t0_us = hal->micros();
+    b->next_frame_us = b->t0_us;
     hal->watchdog_start(LOSA_WATCHDOG_MS);
 }
 
@@ -182,15 +181,11 @@ uint64_t board_task(const hal_t *hal)
             b->next_frame_us = now; /* fell behind: do not try to catch up with a burst */
         }
     }
-    if (now >= b->next_imu_us) {
+    if (board_tick_due(b->t0_us, &b->imu_k, LOSA_IMU_HZ, now)) {
         read_imu(b, hal, now);
-        b->next_imu_us += LOSA_IMU_PERIOD_US;
-        if (b->next_imu_us < now) {
-            b->next_imu_us = now + LOSA_IMU_PERIOD_US;
-        }
     }
     board_link_task_end(&b->link);
 
-    uint64_t due = min_u64(link_due, b->next_imu_us);
+    uint64_t due = min_u64(link_due, board_tick_us(b->t0_us, b->imu_k, LOSA_IMU_HZ));
     return min_u64(due, b->read_pending ? b->next_read_us : b->next_frame_us);
 }

@@ -25,7 +25,7 @@
 #define BOARD_ID AW_BOARD_LOSA
 
 #define LOSA_FRAME_PERIOD_US 3125u /* 320 Hz */
-#define LOSA_IMU_PERIOD_US 10000u  /* 100 Hz */
+#define LOSA_IMU_HZ 100u
 #define LOSA_INITIAL_EXPOSURE_US 1000u
 #define LOSA_WATCHDOG_MS 500u
 
@@ -42,7 +42,8 @@ typedef struct {
     bool read_pending;      /* flushed (or waiting to read at the frame start) */
     uint64_t next_frame_us;
     uint64_t next_read_us;
-    uint64_t next_imu_us;
+    uint64_t t0_us;
+    uint32_t imu_k;         /* IMU reads scheduled since t0 */
     uint32_t frames;
     /* raw lines on request */
     uint8_t raw_mask;

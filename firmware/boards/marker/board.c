@@ -11,12 +11,6 @@ static const uint8_t schema_ids[] = {
     AW_ID_IMU,       AW_ID_MARKER_ATTITUDE, AW_ID_MARKER_COMMAND,
 };
 
-/* k-th tick of a rate_hz schedule from t0, without accumulating rounding */
-static uint64_t tick_us(uint64_t t0, uint32_t k, uint32_t rate_hz)
-{
-    return t0 + ((uint64_t)k * 1000000u + rate_hz - 1u) / rate_hz;
-}
-
 static void drive_leds(marker_board_t *b, const hal_t *hal)
 {
     float drive[MARKER_LEDS];
@@ -113,7 +107,7 @@ uint64_t board_task(const hal_t *hal)
     uint64_t due = board_link_poll(&b->link, 0); /* host feedback first, HELLO due */
     uint64_t now = hal->micros();
 
-    if (now >= tick_us(b->t0_us, b->imu_k, MARKER_IMU_HZ)) {
+    if (board_tick_due(b->t0_us, &b->imu_k, MARKER_IMU_HZ, now)) {
         /* the MPU-9250 is mounted with its axes along the body axes (x fwd, y right, z down) */
         if (b->imu_ok && mpu9250_read(hal, &b->imu, &b->last)) {
             marker_imu_step(&b->logic, &b->cfg, (uint32_t)now, b->last.gyro_rad_s,
@@ -122,20 +116,14 @@ uint64_t board_task(const hal_t *hal)
         } else {
             b->imu_errors++;
         }
-        do {
-            b->imu_k++;
-        } while (tick_us(b->t0_us, b->imu_k, MARKER_IMU_HZ) <= now);
     }
-    if (now >= tick_us(b->t0_us, b->out_k, MARKER_OUTPUT_HZ)) {
+    if (board_tick_due(b->t0_us, &b->out_k, MARKER_OUTPUT_HZ, now)) {
         send_outputs(b, hal, now);
-        do {
-            b->out_k++;
-        } while (tick_us(b->t0_us, b->out_k, MARKER_OUTPUT_HZ) <= now);
     }
     board_link_task_end(&b->link);
 
-    uint64_t next_imu = tick_us(b->t0_us, b->imu_k, MARKER_IMU_HZ);
-    uint64_t next_out = tick_us(b->t0_us, b->out_k, MARKER_OUTPUT_HZ);
+    uint64_t next_imu = board_tick_us(b->t0_us, b->imu_k, MARKER_IMU_HZ);
+    uint64_t next_out = board_tick_us(b->t0_us, b->out_k, MARKER_OUTPUT_HZ);
     due = due < next_imu ? due : next_imu;
     return due < next_out ? due : next_out;
 }

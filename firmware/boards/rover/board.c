@@ -11,11 +11,6 @@ static const uint8_t schema_ids[] = {
     AW_ID_GPS_TIME,  AW_ID_RTK_STATUS,   AW_ID_ROTOR_SPEED,       AW_ID_TAIL_SERVO,
 };
 
-static uint64_t tick_us(uint64_t t0, uint32_t k, uint32_t rate_hz)
-{
-    return t0 + ((uint64_t)k * 1000000u + rate_hz - 1u) / rate_hz;
-}
-
 void board_init(const hal_t *hal)
 {
     rover_board_t *b = &rover_board;
@@ -87,22 +82,16 @@ uint64_t board_task(const hal_t *hal)
     uint64_t due = nav_ports_poll(&b->nav);
 
     uint64_t now = hal->micros();
-    if (now >= tick_us(b->t0_us, b->rotor_k, ROVER_ROTOR_HZ)) {
+    if (board_tick_due(b->t0_us, &b->rotor_k, ROVER_ROTOR_HZ, now)) {
         send_rotor(b, (uint32_t)now);
-        do {
-            b->rotor_k++;
-        } while (tick_us(b->t0_us, b->rotor_k, ROVER_ROTOR_HZ) <= now);
     }
-    if (now >= tick_us(b->t0_us, b->tail_k, ROVER_TAIL_HZ)) {
+    if (board_tick_due(b->t0_us, &b->tail_k, ROVER_TAIL_HZ, now)) {
         send_tail(b, (uint32_t)now);
-        do {
-            b->tail_k++;
-        } while (tick_us(b->t0_us, b->tail_k, ROVER_TAIL_HZ) <= now);
     }
     board_link_task_end(&b->link);
 
-    uint64_t next_rotor = tick_us(b->t0_us, b->rotor_k, ROVER_ROTOR_HZ);
-    uint64_t next_tail = tick_us(b->t0_us, b->tail_k, ROVER_TAIL_HZ);
+    uint64_t next_rotor = board_tick_us(b->t0_us, b->rotor_k, ROVER_ROTOR_HZ);
+    uint64_t next_tail = board_tick_us(b->t0_us, b->tail_k, ROVER_TAIL_HZ);
     due = due < link_due ? due : link_due;
     due = due < next_rotor ? due : next_rotor;
     return due < next_tail ? due : next_tail;
