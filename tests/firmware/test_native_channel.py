@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 import struct
+import subprocess
 from binascii import crc_hqx
 from pathlib import Path
 
@@ -310,3 +311,37 @@ def test_rover_answers_host_time_sync_through_the_base():
     assert replies[3].request_id == replies[4].request_id == 31
     assert replies[3].board_rx_time_us > 1_000_000  # on the rover's own (offset) clock
     assert replies[4].board_rx_time_us < 200_000
+
+
+def test_wall_mode_runs_on_the_monotonic_clock_and_talks_on_a_pty():
+    # the wall-paced SIL: the board follows CLOCK_MONOTONIC, inputs apply when due
+    pty = RawPty()
+    try:
+        with NativeBoard("losa", ports={"host": pty.path}, mode="wall", flavour="asan") as board:
+            assert board.hello.mode == "wall"
+            now = board.clock_us()
+            for s in range(4):
+                board.line(now, s, gaussian_rate(70.0, 1.0), 40.0)
+            board.send()
+            data = bytearray()
+            deadline = now + 600_000
+            while board.clock_us() < deadline:
+                data += pty.read(timeout_s=0.05)
+            out = board.poll()
+    finally:
+        pty.close()
+    frames, dec = decode(bytes(data))
+    assert sum(v for k, v in dec.counters()["errors"].items() if k != "seq_lost") == 0
+    peaks = [f.msg for f in frames if f.name == "losa_peaks"]
+    assert peaks and any(abs(p.peak_px[0] - 70.0) < 0.1 for p in peaks)
+    assert out.boots == [] or out.boots[0][1] == "power_on"
+
+
+def test_bad_command_line_is_one_clear_error_and_status_2():
+    exe = channel.executable("losa", "asan")
+    proc = subprocess.run([str(exe), "--port", "gps=/dev/null"], capture_output=True, text=True,
+                          timeout=30)
+    assert proc.returncode == 2
+    assert "unknown role" in proc.stderr and "gps" in proc.stderr
+    proc = subprocess.run([str(exe), "--stepped"], capture_output=True, text=True, timeout=30)
+    assert proc.returncode == 2 and "--sim" in proc.stderr
