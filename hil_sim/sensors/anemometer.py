@@ -110,6 +110,10 @@ class Anemometer:
             sensor_vel_ned_m_s=truth.vel_ned_m_s,
         )
 
+    def stream(self, samples: AnemometerSamples) -> ByteStream:
+        """The serial output (same as `ascii_stream`)."""
+        return self.ascii_stream(samples)
+
     def ascii_stream(self, samples: AnemometerSamples) -> ByteStream:
         """Serial lines `U V W T` (W up), one per sample."""
         w = samples.wind_sensor_m_s
