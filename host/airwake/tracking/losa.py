@@ -1,0 +1,114 @@
+"""LOSA tracker geometry and triangulation (reference §3.3.1, §3.3.2.1, eq 3.3-3.4).
+
+Tracker frame T: x right, y down, z forward (out of the tracker face), origin at the
+tracker centre (docs/sensors.md, "LOSA optics"). Four modules in a cross, baseline b:
+module 0 at (-b/2, 0, 0) and 1 at (+b/2, 0, 0) with arrays along +x, module 2 at
+(0, -b/2, 0) and 3 at (0, +b/2, 0) with arrays along +y; all face +z. Per module: u along
+the array, n = +z, w = n x u along the slots; pixel i is centred at
+u = (i - 63.5) * pitch; the slot plane is h = 12 mm above the array, slots 8.0 mm apart.
+
+Wire convention (`losa_peaks`): `peak_px = raw_px + 128 * slot` with `slot` in {-1, 0, +1}
+and 0 the central slot; the firmware chooses the slot so that the unwrapped position
+moves continuously. A source moving towards +u images through slots of increasing u
+at decreasing pixels, so continuity puts wire slot `s` at the slot centre
+u = -s * L (the simulator's `LosaGeometry` numbers its slots 0..2 from -u: index = 1 - s).
+
+Eq 3.3 for one module, source at module coordinates (u_s, n_s), slot centre s_j, image
+at u_img on the array:
+
+    (u_img - s_j) / h = -(u_s - s_j) / (n_s - h)
+
+i.e. the source lies on the plane through the slot line (u = s_j, n = h) and the image
+line (u = u_img, n = 0), both along w. Eq 3.4 solves one pair in closed form; with four
+modules we intersect the planes in least squares (normal equations of the 4 x 3 system
+N x = d), which reduces to eq 3.4 for one pair plus the other pair's direction.
+
+These constants belong to the host; the simulator (`hil_sim.sensors.losa.LosaGeometry`)
+holds the same numbers and should import them from here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+N_MODULES = 4
+WIRE_PIXELS = 128  # the unwrapping period of `losa_peaks.peak_px`
+SENSOR_FLAG_VALID = 0x01  # `losa_peaks.sensor_flags` bit 0
+MIN_SENSORS = 3  # planes needed for a 3-D point (any three of the four are independent)
+ADC_FULL_SCALE_COUNTS = 4095  # 12-bit ADC of the tracker (`marker_command.full_scale_counts`)
+
+
+@dataclass(frozen=True)
+class LosaGeometry:
+    """Optical geometry of the tracker (defaults: §3.3.1, Table 3.1, TSL1401CL)."""
+
+    baseline_m: float = 0.40
+    focal_height_m: float = 0.012
+    slot_spacing_m: float = 8.0e-3
+    n_pixels: int = 128
+    pixel_pitch_m: float = 63.5e-6
+
+    def module_frames(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(centre, u, n, w) of each module in the tracker frame, each (4, 3)."""
+        b = self.baseline_m / 2
+        centre = np.array([[-b, 0, 0], [b, 0, 0], [0, -b, 0], [0, b, 0]], dtype=float)
+        u = np.array([[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0]], dtype=float)
+        n = np.tile([0.0, 0.0, 1.0], (N_MODULES, 1))
+        return centre, u, n, np.cross(n, u)
+
+    def pixel_to_u(self, pixel: np.ndarray) -> np.ndarray:
+        return (np.asarray(pixel, dtype=float) - (self.n_pixels - 1) / 2.0) * self.pixel_pitch_m
+
+    def planes(self, peak_px: np.ndarray, slot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Planes of wire peaks: unit normals (..., 4, 3) and offsets (..., 4), n.x = d.
+
+        `peak_px` (..., 4) unwrapped wire positions, `slot` (..., 4) wire slots -1/0/+1.
+        """
+        centre, u, n, w = self.module_frames()
+        peak_px = np.asarray(peak_px, dtype=float)
+        slot = np.asarray(slot, dtype=float)
+        raw_px = peak_px - WIRE_PIXELS * slot
+        slot_u = -slot * self.slot_spacing_m
+        slot_point = centre + slot_u[..., None] * u + self.focal_height_m * n
+        image_point = centre + self.pixel_to_u(raw_px)[..., None] * u
+        normal = np.cross(slot_point - image_point, w)
+        normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+        return normal, np.einsum("...k,...k->...", normal, slot_point)
+
+
+DEFAULT_GEOMETRY = LosaGeometry()
+
+
+def triangulate(peak_px: np.ndarray, slot: np.ndarray, valid: np.ndarray,
+                geometry: LosaGeometry = DEFAULT_GEOMETRY,
+                max_condition: float = 1e6) -> tuple[np.ndarray, np.ndarray]:
+    """Marker position in the tracker frame from wire peaks.
+
+    `peak_px`, `slot` (..., 4) as in `losa_peaks`; `valid` (..., 4) bool (sensor flag bit 0
+    and a finite position). Returns (pos (..., 3) m, ok (...,) bool): ok needs at least
+    `MIN_SENSORS` valid planes and a well-conditioned intersection; pos is NaN where not ok.
+    """
+    peak_px = np.asarray(peak_px, dtype=float)
+    valid = np.asarray(valid, dtype=bool) & np.isfinite(peak_px)
+    normal, offset = geometry.planes(np.where(valid, peak_px, 0.0),
+                                     np.where(valid, np.asarray(slot), 0))
+    normal = np.where(valid[..., None], normal, 0.0)
+    offset = np.where(valid, offset, 0.0)
+    # Normal equations of N x = d over the valid planes.
+    ata = np.einsum("...mi,...mj->...ij", normal, normal)
+    atb = np.einsum("...mi,...m->...i", normal, offset)
+    ok = valid.sum(axis=-1) >= MIN_SENSORS
+    pos = np.full(peak_px.shape[:-1] + (3,), np.nan)
+    if np.any(ok):
+        a, b = ata[ok], atb[ok]
+        cond = np.linalg.cond(a)
+        good = cond < max_condition
+        sol = np.full(b.shape, np.nan)
+        if np.any(good):
+            sol[good] = np.linalg.solve(a[good], b[good][..., None])[..., 0]
+        pos[ok] = sol
+        ok = ok.copy()
+        ok[ok] = good
+    return pos, ok
