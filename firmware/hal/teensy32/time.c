@@ -46,20 +46,25 @@ void teensy_delay_us(uint32_t us)
 void teensy_event(void) { event_pending = true; }
 
 /* Sleeps with WFI while the deadline is more than a tick away (SysTick wakes us
- * every ms), spins for the last millisecond so sub-ms deadlines (exposure) hold. */
+ * every ms), spins for the last millisecond so sub-ms deadlines (exposure) hold.
+ * The event flag is tested with interrupts masked and WFI still wakes on a pending
+ * one, so an ISR between the test and the WFI cannot leave us asleep. */
 void teensy_idle(uint64_t until_us)
 {
     for (;;) {
-        if (event_pending) {
-            event_pending = false;
-            return;
-        }
         uint64_t now = teensy_micros();
         if (now >= until_us) {
             return;
         }
-        if (until_us - now > 1100u) {
+        uint32_t primask = irq_save();
+        bool event = event_pending;
+        event_pending = false;
+        if (!event && until_us - now > 1100u) {
             __asm__ volatile("wfi");
+        }
+        irq_restore(primask); /* a pending interrupt runs here */
+        if (event) {
+            return;
         }
     }
 }
