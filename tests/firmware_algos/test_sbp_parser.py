@@ -191,8 +191,11 @@ def test_corrupt_frame_loses_only_itself(lib, msgs, data):
     corrupted = bytearray(frames[bad])
     corrupted[pos] ^= 1 << data.draw(st.integers(0, 7))
     stream = b"".join(bytes(corrupted) if i == bad else f for i, f in enumerate(frames))
+    # the line keeps going: a later frame resolves a corrupted length that points ahead
+    trailer = dict(wn=2300, tow=123456, ns_residual=-7, flags=1)
+    stream += MsgGPSTime(sender=0x4242, **trailer).to_binary()
     parser, got = parse(lib, stream)
-    want = [f for i, (_, f) in enumerate(msgs) if i != bad]
+    want = [f for i, (_, f) in enumerate(msgs) if i != bad] + [trailer]
     assert [m["fields"] for m in got] == want
     # the loss shows: a CRC error, or (a corrupted length byte) skipped bytes
     assert parser.crc_errors + parser.bytes_dropped > 0
