@@ -4,6 +4,8 @@ import ctypes as C
 import struct
 
 import awboards as A
+import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from vn200_packets import DECODED, FIELD_SIZES, ROVER_MASK, build_packet, crc16_xmodem, rover_packet
@@ -151,3 +153,36 @@ def test_stream_loses_only_corrupted_packets(lib, items, corrupt, data):
 def test_crc16_matches_reference(lib, blob):
     # Why: the same CRC guards VN200 and SBP; one table error breaks both links.
     assert lib.crc16_xmodem_update(0, blob, len(blob)) == crc16_xmodem(blob)
+
+
+def test_hil_sim_encoder_packets_decode_in_firmware(lib):
+    # Why: the shared VN200 contract has two independent sides (hil_sim's encoder, this
+    # parser); they must agree byte for byte.
+    vn200 = pytest.importorskip("hil_sim.sensors.vn200")
+    rng = np.random.default_rng(4)
+    k = 50
+    samples = vn200.Vn200Samples(
+        t_s=np.arange(k) / 150.0,
+        time_startup_ns=rng.integers(0, 2**62, k).astype(np.uint64),
+        ypr_deg=rng.uniform(-180, 180, (k, 3)),
+        rates_body_rad_s=rng.normal(0, 1, (k, 3)),
+        lla=np.column_stack(
+            [rng.uniform(-90, 90, k), rng.uniform(-180, 180, k), rng.normal(0, 50, k)]
+        ),
+        vel_ned_m_s=rng.normal(0, 5, (k, 3)),
+        accel_body_m_s2=rng.normal(0, 3, (k, 3)) + [0, 0, -9.8],
+        ins_status=rng.integers(0, 2**16, k).astype(np.uint16),
+        imu_errors=None,
+    )
+    packets = vn200.encode_vn200_packets(samples)
+    parser, got = parse(lib, packets.tobytes(), 64)
+    assert parser.crc_errors == 0 and len(got) == k
+    f32 = np.float32
+    for i, ins in enumerate(got):
+        assert ins["time_startup_ns"] == int(samples.time_startup_ns[i])
+        assert ins["ypr_deg"] == tuple(samples.ypr_deg[i].astype(f32))
+        assert ins["angular_rate_rad_s"] == tuple(samples.rates_body_rad_s[i].astype(f32))
+        assert ins["lla"] == tuple(samples.lla[i])
+        assert ins["vel_ned_m_s"] == tuple(samples.vel_ned_m_s[i].astype(f32))
+        assert ins["accel_m_s2"] == tuple(samples.accel_body_m_s2[i].astype(f32))
+        assert ins["ins_status"] == int(samples.ins_status[i])
