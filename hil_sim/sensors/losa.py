@@ -62,10 +62,7 @@ class LosaGeometry:
     baseline_m: float = 0.40
     focal_height_m: float = 0.012
     slot_width_m: float = 0.13e-3
-    # "The distance between adjacent slots was selected as same as the sensor length"
-    # (§3.3.1.3, which rounds L to 8.0 mm): the TSL1401's length is 128 x 63.5 um =
-    # 8.128 mm, and the firmware unwraps slots by exactly +/-128 px, so both use that.
-    slot_spacing_m: float = 128 * 63.5e-6
+    slot_spacing_m: float = 8.0e-3
     n_slots: int = 3
     n_pixels: int = 128
     pixel_pitch_m: float = 63.5e-6

@@ -82,9 +82,7 @@ def test_sideways_motion_moves_the_image_to_the_next_slot():
     xs = np.linspace(-1.7, 1.7, 341)  # within the +-45 deg field of view at 2 m
     pts = np.stack([xs, np.zeros_like(xs), np.full_like(xs, 2.0)], axis=-1)
     pix = g.image_pixels(pts)[:, 1, :]  # module 1, (341, 3)
-    # slot images tile the array edge to edge: a boundary point lands on pixel 127.5 of
-    # one slot's image and -0.5 of the next, so the bounds are inclusive
-    on = (pix >= -0.5) & (pix <= 127.5)
+    on = (pix > -0.5) & (pix < 127.5)
     assert np.all(on.sum(axis=1) >= 1)  # always seen through some slot
     slots_seen = {int(np.argmax(row)) for row in on}
     assert slots_seen == {0, 1, 2}
