@@ -12,9 +12,9 @@ AIRWAKE := $(VENV)/bin/airwake
 VENV_STAMP := $(VENV)/.installed
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # arm-none-eabi toolchain for the Teensy images, valgrind for instruction counts,
-# teensy-loader-cli for `make flash`.
+# teensy-loader-cli for `make flash`, chromium(-driver) for the report's browser test.
 APT_PACKAGES := gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi \
-                valgrind teensy-loader-cli gcc
+                valgrind teensy-loader-cli gcc chromium chromium-driver
 PYTEST_ARGS ?= -n 2
 BOARD ?=
 
