@@ -1,45 +1,35 @@
 """The evaluation context: every intermediate quantity of one batched model evaluation.
 
 A `Context` is created by `HeliModel.evaluate` for N rows (states, inputs, winds,
-environment, parameter sets broadcast together) and passed through the effects'
-stages. Effects read what earlier stages produced and write their own results; after
-the call it holds the full picture (loads per effect, inflow, thrust, …), which the
-discrepancy tools use to explain residuals. All arrays are float64 with a leading
-batch axis N; vectors in body axes (x forward, y right, z down), SI units.
+environment, parameter sets broadcast together) and passed through the effects' numpy
+stages; compiled (kernel) stages write the same quantities row by row. After the call it
+holds the full picture (loads per effect, inflow, thrust, …), which the discrepancy
+tools use to explain residuals. All arrays are float64 with a leading batch axis N;
+vectors in body axes (x forward, y right, z down), SI units.
 
-Quantities (who sets them):
-    n                        batch size
-    x (N, S)                 full state; ctx.state(effect) gives that effect's (N, k) slice
-    vel_b_m_s (N,3)          body velocity u, v, w                        (model core)
-    omega_b_rad_s (N,3)      body rates p, q, r                           (model core)
-    roll_rad, pitch_rad, yaw_rad (N,)                                     (model core)
-    delta_col_rad, delta_lat_rad, delta_lon_rad, delta_ped_rad (N,)
-                             pilot blade-pitch commands (input stage may transform them)
-    wind_v_m_s (N,3), wind_w_rad_s (N,3)
-                             eq 5.3 local wind at the rotor hub: w(r) = w × r + v, r from hub
-    height_agl_m (N,)        rotor hub above ground/deck (+inf when unknown)
-    rotor_speed_meas_rad_s (N,)  measured rotor speed (NaN where not measured)
-    air_density_kg_m3        (atmosphere)          gravity_m_s2   (gravity)
-    mass_kg, inertia         (rigid_body; inertia = (Ixx, Iyy, Izz, Ixz))
-    wind_origin_m (3,)/(N,3) point the eq 5.3 wind refers to (main rotor hub), rel. CG
-    rotor_speed_rad_s (N,)   main rotor speed used (rotor_speed stage)
-    rotor_sense              +1 counter-clockwise / -1 clockwise seen from above (main_rotor)
-    hub_air_velocity_m_s (N,3) air velocity relative to the moving hub, body axes
-    advance_ratio, axial_flow_ratio (N,)  mu = |in-plane|/(Omega R), mu_z = down-flow/(Omega R)
-    theta_0, theta_c, theta_s (N,)   main-blade pitch, rotor frame harmonics (blade_pitch)
-    swash_c, swash_s (N,)    swashplate cyclic (before flybar mixing)
-    tail_pitch_rad (N,)      tail blade pitch
-    inflow_0, inflow_c, inflow_s (N,)   Pitt-Peters inflow harmonics (inflow stage)
-    thrust_n, thrust_coeff, rotor_torque_nm, rotor_wake_m_s (N,)   (main_rotor forces)
-    tail_thrust_n, tail_wash_m_s (N,)                               (tail_rotor)
-    loads                    {effect name: (F (N,3), M (N,3), sensed: bool)}
-    xdot (N, S)              state derivatives (state_rates + body_dynamics)
-    meas (N, 6)              predicted measurement, channels MEAS_CHANNELS
+Storage: the shared quantities live in one float64 array `ctx.c` (N, K), one fixed slot
+(or run of slots) per quantity (`airwake.heli.layout`); `ctx.inflow_0` is the column
+view `c[:, Q.inflow_0]`, `ctx.vel_b_m_s` the (N, 3) view of three slots, and assigning
+`ctx.inflow_0 = v` writes into that column (broadcast), so a numpy effect and a compiled
+kernel see the same numbers. Any other attribute a numpy effect sets (`ctx.my_thing = …`)
+is an ordinary Python attribute, visible to later numpy stages.
+
+Quantities (slot name, width, unit, who writes it, meaning):
+{quantities}
+
+Also: n (batch size), x (N, S) full state (`ctx.state(effect)` gives that effect's
+(N, k) view), xdot (N, S) derivatives (`ctx.set_rates(effect, rates)`), meas (N, 6)
+predicted measurement in `MEAS_CHANNELS` order, loads {{effect: (F (N,3), M (N,3),
+sensed)}} (`ctx.add_load(effect, F, M, sensed=True)`), inertia (Ixx, Iyy, Izz, Ixz).
+air_density_kg_m3, gravity_m_s2, mass_kg and rotor_sense read as floats when every row
+holds the same value (as the per-model scalars they used to be), else as (N,) arrays.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from airwake.heli.layout import OFFSETS, QUANTITIES, SCALAR_LIKE, WIDTHS
 
 MEAS_CHANNELS = (
     "acc_x_m_s2",
@@ -49,6 +39,11 @@ MEAS_CHANNELS = (
     "qdot_rad_s2",
     "rdot_rad_s2",
 )
+
+__doc__ = __doc__.format(quantities="\n".join(
+    f"    {name} ({width})".ljust(34) + f"{unit:8s} {who:18s} {doc}"
+    for name, width, unit, who, doc in QUANTITIES
+))
 
 
 def cross(a, b) -> np.ndarray:
@@ -60,27 +55,70 @@ def cross(a, b) -> np.ndarray:
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], -1)
 
 
+def _slot_property(name: str) -> property:
+    k, width = OFFSETS[name], WIDTHS[name]
+    doc = next(q[4] for q in QUANTITIES if q[0] == name)
+    if width == 1:
+        if name in SCALAR_LIKE:
+
+            def get(self):
+                v = self.c[:, k]
+                return float(v[0]) if v.size and bool(np.all(v == v[0])) else v
+        else:
+
+            def get(self):
+                return self.c[:, k]
+    elif name == "rotor_load_jac":
+
+        def get(self):
+            return self.c[:, k : k + 9].reshape(self.n, 3, 3)
+    elif name == "inertia":
+
+        def get(self):
+            return tuple(self._scalar_like(self.c[:, k + j]) for j in range(4))
+    else:
+
+        def get(self):
+            return self.c[:, k : k + width]
+
+    def set_(self, value):
+        if name == "inertia":  # (Ixx, Iyy, Izz, Ixz), each a float or (N,)
+            v = np.stack(np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in value)), -1)
+        else:
+            v = np.asarray(value, dtype=float)
+        if name == "rotor_load_jac" and v.ndim >= 2:
+            v = v.reshape(v.shape[:-2] + (9,))
+        if width == 1:
+            self.c[:, k] = v
+        else:
+            self.c[:, k : k + width] = v
+
+    return property(get, set_, doc=doc)
+
+
 class Context:
     """Intermediate quantities of one batched evaluation (see module docstring)."""
 
-    def __init__(self, model, x, n: int) -> None:
+    def __init__(self, model, x, n: int, c, xdot, loads, has_load, sensed, scratch) -> None:
         self.model = model
         self.n = n
         self.x = x
-        self.xdot = np.zeros_like(x)
-        self.loads: dict[str, tuple[np.ndarray, np.ndarray, bool]] = {}
-        self.meas = np.zeros((n, len(MEAS_CHANNELS)))
-        self.air_density_kg_m3 = 1.225
-        self.gravity_m_s2 = 9.80665
-        self.wind_origin_m = np.zeros(3)
-        self.rotor_sense = 1.0
+        self.c = c
+        self.xdot = xdot
+        self.scratch = scratch
+        self._loads = loads  # (N, E, 6): force, moment per effect (model order)
+        self._has_load = has_load  # (E,) 1.0 where the effect added a load
+        self._sensed = sensed  # (E,) 1.0 where an accelerometer feels it
         self._cache: dict[str, object] = {}
+
+    @staticmethod
+    def _scalar_like(v):
+        return float(v[0]) if v.size and bool(np.all(v == v[0])) else v
 
     # -- states -------------------------------------------------------------------
     def state(self, effect: str) -> np.ndarray:
         """(N, k) view of `effect`'s own states."""
-        sl = self.model.state_slice(effect)
-        return self.x[:, sl]
+        return self.x[:, self.model.state_slice(effect)]
 
     def set_rates(self, effect: str, rates: np.ndarray) -> None:
         """Write d/dt of `effect`'s own states, (N, k)."""
@@ -90,12 +128,20 @@ class Context:
     def add_load(self, effect: str, force_n, moment_nm, sensed: bool = True) -> None:
         """Add a force/moment (body axes, about the CG). `sensed=False` for gravity-like
         field forces that an accelerometer does not measure."""
-        f = np.broadcast_to(force_n, (self.n, 3))
-        m = np.broadcast_to(moment_nm, (self.n, 3))
-        if effect in self.loads:
-            f0, m0, s0 = self.loads[effect]
-            f, m = f0 + f, m0 + m
-        self.loads[effect] = (f, m, sensed)
+        e = self.model.effect_index(effect)
+        self._loads[:, e, 0:3] += np.broadcast_to(force_n, (self.n, 3))
+        self._loads[:, e, 3:6] += np.broadcast_to(moment_nm, (self.n, 3))
+        self._has_load[e] = 1.0
+        self._sensed[e] = 1.0 if sensed else 0.0
+
+    @property
+    def loads(self) -> dict[str, tuple[np.ndarray, np.ndarray, bool]]:
+        """{effect: (F (N,3), M (N,3), sensed)} for the effects that added a load."""
+        return {
+            eff.name: (self._loads[:, e, 0:3], self._loads[:, e, 3:6], bool(self._sensed[e]))
+            for e, eff in enumerate(self.model.effects)
+            if self._has_load[e]
+        }
 
     def total_load(self, sensed_only: bool = False) -> tuple[np.ndarray, np.ndarray]:
         f = np.zeros((self.n, 3))
@@ -117,3 +163,8 @@ class Context:
 
     def meas_dict(self) -> dict[str, np.ndarray]:
         return {c: self.meas[:, i] for i, c in enumerate(MEAS_CHANNELS)}
+
+
+for _name in OFFSETS:
+    setattr(Context, _name, _slot_property(_name))
+del _name

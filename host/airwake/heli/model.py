@@ -11,6 +11,12 @@ env a mapping of (N,) arrays (`height_agl_m`, `rotor_speed_rad_s`), params None,
 parameter vector (P,) or per-row matrix (N, P) in `parameter_names` order, or a dict
 {"effect.param": value or (N,) array}. Any of them may be given for one row and is
 broadcast to N.
+
+Speed: every effect stage written as a compiled kernel (`airwake.heli.kernel`) runs in one
+generated, numba-compiled function per effect composition (`airwake.heli.codegen`);
+`derivatives`, `measure` and `rates_and_measurement` of an all-kernel model keep only one
+context row in memory. Numpy stages (user plugins) run between compiled segments on the
+full `Context`.
 """
 
 from __future__ import annotations
@@ -20,8 +26,10 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from airwake.heli import codegen
 from airwake.heli.context import MEAS_CHANNELS, Context
-from airwake.heli.effects.base import STAGES, Effect
+from airwake.heli.effects.base import Effect
+from airwake.heli.layout import N_SLOTS
 
 INPUT_NAMES = ("delta_col_rad", "delta_lat_rad", "delta_lon_rad", "delta_ped_rad")
 WIND_NAMES = (
@@ -34,6 +42,16 @@ WIND_NAMES = (
 )
 ENV_NAMES = ("height_agl_m", "rotor_speed_rad_s")
 BODY_EFFECT = "rigid_body"
+_NO_WIND = np.zeros((1, 6))
+_NO_HEIGHT = np.full(1, np.inf)
+_NO_ROTOR_SPEED = np.full(1, np.nan)
+
+
+class _Rows:
+    """Model inputs normalised for the compiled functions: each array keeps a leading row
+    axis of 1 or n, with its stride (0 or 1)."""
+
+    __slots__ = ("n", "x", "xs", "u", "us", "w", "ws", "h", "hs", "om", "oms", "p", "ps")
 
 
 class HeliModel:
@@ -72,11 +90,10 @@ class HeliModel:
             for p in e.PARAMETERS:
                 self.parameter_names.append(f"{e.name}.{p.name}")
                 self._param_specs.append(p)
-        self._stage_calls = [
-            (stage, [(e, getattr(e, stage)) for e in effects if getattr(type(e), stage, None)])
-            for stage in STAGES
-        ]
-        self._stage_calls = [(s, c) for s, c in self._stage_calls if c]
+        self._pindex = {k: j for j, k in enumerate(self.parameter_names)}
+        self._index = {e.name: i for i, e in enumerate(effects)}
+        self._default_params = np.ascontiguousarray(self.parameter_vector()[None, :])
+        self._compiled = None
 
     # -- composition and naming ----------------------------------------------------------
     @property
@@ -114,6 +131,22 @@ class HeliModel:
 
     def state_slice(self, effect: str) -> slice:
         return self._slices[effect]
+
+    def effect_index(self, effect: str) -> int:
+        return self._index[effect]
+
+    @property
+    def compiled(self) -> codegen.Compiled:
+        """The composition's compiled pipeline (generated and compiled on first use)."""
+        if self._compiled is None:
+            self._compiled = codegen.compiled(self)
+        return self._compiled
+
+    @property
+    def is_compiled(self) -> bool:
+        """True when every stage of every effect is a compiled kernel (fastest paths:
+        lean evaluation, compiled RK4 and hidden-state pass)."""
+        return self.compiled.pure
 
     def state_index(self, name: str) -> int:
         """Index of a state by full name ('rigid_body.p_rad_s') or flight-table column."""
@@ -175,7 +208,90 @@ class HeliModel:
             new.append(e.with_values(**mine) if mine else e)
         return HeliModel(new)
 
+    def _param_matrix(self, params) -> np.ndarray:
+        """params -> (1 or N, P) C-contiguous float64 matrix in `parameter_names` order."""
+        if params is None:
+            return self._default_params
+        if isinstance(params, Mapping):
+            cols = {}
+            rows = 1
+            for key, v in params.items():
+                try:
+                    j = self._pindex[key]
+                except KeyError:
+                    raise ValueError(f"unknown parameter {key!r}") from None
+                a = np.asarray(v, dtype=float)
+                if a.ndim > 1:
+                    raise ValueError(f"parameter {key!r} must be a value or an (N,) array")
+                if a.ndim == 1 and a.shape[0] != 1:
+                    if rows not in (1, a.shape[0]):
+                        raise ValueError(f"parameter {key!r} has {a.shape[0]} rows, others {rows}")
+                    rows = a.shape[0]
+                cols[j] = a
+            pm = np.repeat(self._default_params, rows, 0)
+            for j, a in cols.items():
+                pm[:, j] = a
+            return pm
+        pm = np.asarray(params, dtype=float)
+        if pm.shape[-1] != len(self.parameter_names):
+            raise ValueError(
+                f"params has {pm.shape[-1]} columns, expected {len(self.parameter_names)}"
+            )
+        if pm.ndim == 1:
+            pm = pm.reshape(1, -1)
+        elif pm.ndim != 2:
+            raise ValueError(f"params must be (P,) or (N, P), got shape {pm.shape}")
+        return np.ascontiguousarray(pm)
+
+    def _rows(self, x, u, w, env, params) -> _Rows:
+        a = _Rows()
+        x = np.asarray(x, dtype=np.float64)
+        if x.ndim == 1:
+            x = x.reshape(1, -1)
+        u = np.asarray(u, dtype=np.float64)
+        if u.ndim == 1:
+            u = u.reshape(1, -1)
+        if w is None:
+            w = _NO_WIND
+        else:
+            w = np.asarray(w, dtype=np.float64)
+            if w.ndim == 1:
+                w = w.reshape(1, -1)
+        if x.ndim != 2 or x.shape[1] != self.n_states:
+            raise ValueError(
+                f"state has {x.shape[-1] if x.ndim else 0} columns, "
+                f"model has {self.n_states} states"
+            )
+        if u.ndim != 2 or w.ndim != 2 or u.shape[1] != 4 or w.shape[1] != 6:
+            raise ValueError(f"inputs must be (N,4) and wind (N,6), got {u.shape} and {w.shape}")
+        h, om = _NO_HEIGHT, _NO_ROTOR_SPEED
+        if env:
+            unknown = sorted(set(env) - set(ENV_NAMES))
+            if unknown:
+                raise ValueError(
+                    f"unknown environment input(s) {unknown}; expected {list(ENV_NAMES)}"
+                )
+            if "height_agl_m" in env:
+                h = np.asarray(env["height_agl_m"], dtype=np.float64).reshape(-1)
+            if "rotor_speed_rad_s" in env:
+                om = np.asarray(env["rotor_speed_rad_s"], dtype=np.float64).reshape(-1)
+        pm = self._param_matrix(params)
+        n = max(x.shape[0], u.shape[0], w.shape[0], h.shape[0], om.shape[0], pm.shape[0])
+        for what, arr in (("state", x), ("inputs", u), ("wind", w), ("height_agl_m", h),
+                          ("rotor_speed_rad_s", om), ("params", pm)):
+            if arr.shape[0] not in (1, n):
+                raise ValueError(f"{what} has {arr.shape[0]} rows, cannot broadcast to {n}")
+        a.n = n
+        a.x, a.xs = np.ascontiguousarray(x), int(x.shape[0] == n)
+        a.u, a.us = np.ascontiguousarray(u), int(u.shape[0] == n)
+        a.w, a.ws = np.ascontiguousarray(w), int(w.shape[0] == n)
+        a.h, a.hs = np.ascontiguousarray(h), int(h.shape[0] == n)
+        a.om, a.oms = np.ascontiguousarray(om), int(om.shape[0] == n)
+        a.p, a.ps = pm, int(pm.shape[0] == n)
+        return a
+
     def _param_views(self, params, n: int) -> dict[str, SimpleNamespace]:
+        """Per-effect parameter namespaces for numpy stages: floats, or (N,) arrays."""
         views = {e.name: e.params() for e in self.effects}
         if params is None:
             return views
@@ -183,18 +299,12 @@ class HeliModel:
             items = params.items()
         else:
             arr = np.asarray(params, dtype=float)
-            if arr.shape[-1] != len(self.parameter_names):
-                raise ValueError(
-                    f"params has {arr.shape[-1]} columns, expected {len(self.parameter_names)}"
-                )
             if arr.ndim == 1:
                 items = zip(self.parameter_names, arr.tolist(), strict=True)
             else:
                 items = zip(self.parameter_names, arr.T, strict=True)
         for key, v in items:
             eff, pname = key.split(".", 1)
-            if eff not in views:
-                raise ValueError(f"unknown parameter {key!r}")
             if isinstance(v, np.ndarray) and v.ndim == 1 and v.shape[0] != n:
                 v = np.broadcast_to(v, (n,))
             setattr(views[eff], pname, v)
@@ -203,64 +313,57 @@ class HeliModel:
     # -- evaluation ----------------------------------------------------------------------
     def evaluate(self, x, u, w=None, env=None, params=None) -> Context:
         """Run every stage on a batch; returns the Context with all intermediates."""
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        u = np.atleast_2d(np.asarray(u, dtype=float))
-        w = np.zeros((1, 6)) if w is None else np.atleast_2d(np.asarray(w, dtype=float))
-        if x.shape[1] != self.n_states:
-            raise ValueError(f"state has {x.shape[1]} columns, model has {self.n_states} states")
-        if u.shape[1] != 4 or w.shape[1] != 6:
-            raise ValueError(f"inputs must be (N,4) and wind (N,6), got {u.shape} and {w.shape}")
-        n = max(x.shape[0], u.shape[0], w.shape[0])
-        if params is not None and not isinstance(params, Mapping):
-            pa = np.asarray(params)
-            if pa.ndim == 2:
-                n = max(n, pa.shape[0])
-        if env:
-            for v in env.values():
-                n = max(n, np.size(v) if np.ndim(v) else 1)
-        x = np.broadcast_to(x, (n, self.n_states)).copy() if x.shape[0] != n else x
-        u = np.broadcast_to(u, (n, 4)) if u.shape[0] != n else u
-        w = np.broadcast_to(w, (n, 6)) if w.shape[0] != n else w
-
-        ctx = Context(self, x, n)
-        ctx.delta_col_rad = u[:, 0]
-        ctx.delta_lat_rad = u[:, 1]
-        ctx.delta_lon_rad = u[:, 2]
-        ctx.delta_ped_rad = u[:, 3]
-        ctx.wind_v_m_s = w[:, 0:3]
-        ctx.wind_w_rad_s = w[:, 3:6]
-        env = env or {}
-        unknown = sorted(set(env) - set(ENV_NAMES))
-        if unknown:
-            raise ValueError(f"unknown environment input(s) {unknown}; expected {list(ENV_NAMES)}")
-        ctx.height_agl_m = np.broadcast_to(
-            np.asarray(env.get("height_agl_m", np.inf), dtype=float), (n,)
-        )
-        ctx.rotor_speed_meas_rad_s = np.broadcast_to(
-            np.asarray(env.get("rotor_speed_rad_s", np.nan), dtype=float), (n,)
-        )
-        if BODY_EFFECT in self._by_name:
-            b = ctx.state(BODY_EFFECT)
-            ctx.vel_b_m_s = b[:, 3:6]
-            ctx.roll_rad, ctx.pitch_rad, ctx.yaw_rad = b[:, 6], b[:, 7], b[:, 8]
-            ctx.omega_b_rad_s = b[:, 9:12]
-        else:
-            ctx.vel_b_m_s = np.zeros((n, 3))
-            ctx.omega_b_rad_s = np.zeros((n, 3))
-            ctx.roll_rad = ctx.pitch_rad = ctx.yaw_rad = np.zeros(n)
-        views = self._param_views(params, n)
-        for _stage, calls in self._stage_calls:
-            for eff, method in calls:
-                method(ctx, views[eff.name])
+        a = self._rows(x, u, w, env, params)
+        comp = self.compiled
+        n = a.n
+        xfull = a.x if a.xs or n == 1 else np.repeat(a.x, n, 0)
+        c = np.empty((n, N_SLOTS))
+        loads = np.empty((n, len(self.effects), 6))
+        scratch = np.empty((n, comp.n_scratch))
+        xdot = np.empty((n, self.n_states))
+        meas = np.empty((n, 6))
+        has, sensed = comp.has_load.copy(), comp.sensed.copy()
+        ctx = Context(self, xfull, n, c, xdot, loads, has, sensed, scratch)
+        if comp.pure:
+            comp.fns.evaluate_rows(n, c, 1, xfull, 1, xdot, meas, loads, scratch, a.u, a.us,
+                                   a.w, a.ws, a.h, a.hs, a.om, a.oms, a.p, a.ps)
+            return ctx
+        views = None
+        for step in comp.steps:
+            if step.kind == "segment":
+                step.fn(n, c, 1, xfull, 1, xdot, meas, loads, scratch, a.u, a.us, a.w, a.ws,
+                        a.h, a.hs, a.om, a.oms, a.p, a.ps, has, sensed)
+            else:
+                if views is None:
+                    views = self._param_views(params, n)
+                eff = self.effects[step.effect_index]
+                step.fn(eff, ctx, views[eff.name])
         return ctx
+
+    def rates_and_measurement(self, x, u, w=None, env=None, params=None):
+        """(dx/dt (N, S), predicted measurement (N, 6)) without keeping the intermediates
+        (one context row in memory for an all-kernel model)."""
+        comp = self.compiled
+        if not comp.pure:
+            ctx = self.evaluate(x, u, w, env, params)
+            return ctx.xdot, ctx.meas.copy()
+        a = self._rows(x, u, w, env, params)
+        n = a.n
+        xdot = np.empty((n, self.n_states))
+        meas = np.empty((n, 6))
+        comp.fns.evaluate_rows(n, np.empty((1, N_SLOTS)), 0, a.x, a.xs, xdot, meas,
+                               np.empty((1, len(self.effects), 6)),
+                               np.empty((1, comp.n_scratch)), a.u, a.us, a.w, a.ws, a.h, a.hs,
+                               a.om, a.oms, a.p, a.ps)
+        return xdot, meas
 
     def derivatives(self, x, u, w=None, env=None, params=None) -> np.ndarray:
         """dx/dt, (N, S)."""
-        return self.evaluate(x, u, w, env, params).xdot
+        return self.rates_and_measurement(x, u, w, env, params)[0]
 
     def measure(self, x, u, w=None, env=None, params=None) -> np.ndarray:
         """Predicted measurement (N, 6) in `MEAS_CHANNELS` order, from the full state."""
-        return self.evaluate(x, u, w, env, params).meas
+        return self.rates_and_measurement(x, u, w, env, params)[1]
 
     MEAS_CHANNELS = MEAS_CHANNELS
 

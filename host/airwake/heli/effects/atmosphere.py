@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, kernel
 
 
 @register_effect("atmosphere")
@@ -14,5 +15,6 @@ class Atmosphere(Effect):
         Parameter("air_density_kg_m3", 1.225, "kg/m^3", (0.5, 1.5), "Table 5.1 (rho)", fixed=True),
     )
 
-    def environment(self, ctx, p) -> None:
-        ctx.air_density_kg_m3 = p.air_density_kg_m3
+    @kernel
+    def environment(q, p, s, ds, load, scratch):
+        q[Q.air_density_kg_m3] = p.air_density_kg_m3

@@ -21,13 +21,19 @@ Stages, called in this order (within a stage, in the order the model lists its e
     body_dynamics(ctx, p)  (rigid body only) total load -> body state derivatives + measurement
     measurement(ctx, p)    transform the predicted measurement ctx.meas (lever arm, bias, …)
 
-`p` is a namespace of the effect's parameter values: floats, or (N,) arrays when the
-caller evaluates N parameter sets at once.
+Two ways to write a stage (docs/effects.md, "Writing an effect"):
+- kernel (fast): `@kernel def stage(q, p, s, ds, load, scratch)` compiled with numba for one
+  row (see `airwake.heli.kernel`); the model fuses all kernel stages of a composition into
+  one compiled function.
+- numpy (simple): `def stage(self, ctx, p)` on the whole batch; `p` is a namespace of the
+  effect's parameter values: floats, or (N,) arrays when the caller evaluates N parameter
+  sets at once. Runs between the compiled segments, slower but no compilation.
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from types import SimpleNamespace
@@ -158,6 +164,10 @@ class Effect:
     MEASURED_STATES: ClassVar[dict[str, str]] = {}
     # Effects this one reads context quantities from (documentation + model validation).
     REQUIRES: ClassVar[tuple[str, ...]] = ()
+    # Kernel effects: private per-row floats kept between stages, and whether the load
+    # written in `load` is felt by an accelerometer (False for field forces: gravity).
+    SCRATCH: ClassVar[int] = 0
+    LOAD_SENSED: ClassVar[bool] = True
 
     def __init__(self, **values) -> None:
         specs = {p.name: p for p in self.PARAMETERS}
@@ -185,6 +195,19 @@ class Effect:
 
     def params(self) -> SimpleNamespace:
         return SimpleNamespace(**self._values)
+
+    @classmethod
+    def parameter_tuple(cls) -> type:
+        """The namedtuple a kernel stage receives as `p` (one float per parameter)."""
+        tup = cls.__dict__.get("_parameter_tuple")
+        if tup is None:
+            tup = namedtuple(f"{cls.__name__}Params", [p.name for p in cls.PARAMETERS])
+            # importable by name (module.Class._parameter_tuple): numba's cache keys
+            # compiled kernels by their argument types and pickles this class by reference
+            tup.__module__ = cls.__module__
+            tup.__qualname__ = f"{cls.__qualname__}._parameter_tuple"
+            cls._parameter_tuple = tup
+        return tup
 
     # -- composition ------------------------------------------------------------------
     def __add__(self, other):

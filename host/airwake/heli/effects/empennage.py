@@ -2,14 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.heli.context import cross
 from airwake.heli.effects.base import Effect, Parameter, register_effect
-
-
-def _wake(ctx, name: str):
-    return getattr(ctx, name, np.zeros(ctx.n))
+from airwake.heli.kernel import Q, add_load, air_velocity_at, cross, kernel
 
 
 @register_effect("empennage")
@@ -32,18 +26,14 @@ class Empennage(Effect):
     )
     REQUIRES = ("rigid_body",)
 
-    def forces(self, ctx, p) -> None:
-        rho = ctx.air_density_kg_m3
-        lh = np.asarray(p.h_fin_arm_m, dtype=float)
-        lv = np.asarray(p.v_fin_arm_m, dtype=float)
-        zh = np.zeros_like(lh)
-        zv = np.zeros_like(lv)
-        r_h = np.stack([-lh, zh, zh], -1)
-        r_v = np.stack([-lv, zv, zv], -1)
-        vz = ctx.air_velocity_at(r_h)[:, 2] + _wake(ctx, "rotor_wake_m_s")
-        vy = ctx.air_velocity_at(r_v)[:, 1] + _wake(ctx, "tail_wash_m_s")
-        f_h = np.zeros((ctx.n, 3))
-        f_v = np.zeros((ctx.n, 3))
-        f_h[:, 2] = 0.5 * rho * p.c_hf_m2 * vz * np.abs(vz)
-        f_v[:, 1] = 0.5 * rho * p.c_vf_m2 * vy * np.abs(vy)
-        ctx.add_load(self.name, f_h + f_v, cross(r_h, f_h) + cross(r_v, f_v))
+    @kernel
+    def forces(q, p, s, ds, load, scratch):
+        rho = q[Q.air_density_kg_m3]
+        lh, lv = p.h_fin_arm_m, p.v_fin_arm_m
+        vz = air_velocity_at(q, -lh, 0.0, 0.0)[2] + q[Q.rotor_wake_m_s]
+        vy = air_velocity_at(q, -lv, 0.0, 0.0)[1] + q[Q.tail_wash_m_s]
+        fz = 0.5 * rho * p.c_hf_m2 * vz * abs(vz)  # horizontal fin
+        fy = 0.5 * rho * p.c_vf_m2 * vy * abs(vy)  # vertical fin
+        mhx, mhy, mhz = cross(-lh, 0.0, 0.0, 0.0, 0.0, fz)
+        mvx, mvy, mvz = cross(-lv, 0.0, 0.0, 0.0, fy, 0.0)
+        add_load(load, 0.0, fy, fz, mhx + mvx, mhy + mvy, mhz + mvz)

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from airwake.heli.effects.base import Effect, Parameter, State, register_effect
+from airwake.heli.kernel import Q, kernel
 
 
 @register_effect("flybar")
@@ -44,25 +43,30 @@ class Flybar(Effect):
     )
     REQUIRES = ("main_rotor",)
 
-    def blade_pitch(self, ctx, p) -> None:
-        st = ctx.state(self.name)
-        ctx.theta_c = p.c1 * ctx.swash_c + p.c2 * st[:, 1]
-        ctx.theta_s = p.c1 * ctx.swash_s - p.c2 * st[:, 0]
+    @kernel
+    def blade_pitch(q, p, s, ds, load, scratch):
+        q[Q.theta_c] = p.c1 * q[Q.swash_c] + p.c2 * s[1]
+        q[Q.theta_s] = p.c1 * q[Q.swash_s] - p.c2 * s[0]
 
-    def state_rates(self, ctx, p) -> None:
-        st = ctx.state(self.name)
-        ac, as_, dac, das = st[:, 0], st[:, 1], st[:, 2], st[:, 3]
-        rf = ctx._cache["rotor_frame"]
-        v0, w, body, om, vtip = rf["v0"], rf["w"], rf["body"], rf["om"], rf["vtip"]
+    @kernel
+    def state_rates(q, p, s, ds, load, scratch):
+        ac, as_, dac, das = s[0], s[1], s[2], s[3]
+        v0x = q[Q.hub_air_velocity_rotor_m_s]
+        v0y = q[Q.hub_air_velocity_rotor_m_s + 1]
+        v0z = q[Q.hub_air_velocity_rotor_m_s + 2]
+        wx, wy = q[Q.rel_rotation_rotor_rad_s], q[Q.rel_rotation_rotor_rad_s + 1]
+        bx, by = q[Q.body_rates_rotor_rad_s], q[Q.body_rates_rotor_rad_s + 1]
+        om, vtip = q[Q.rotor_speed_rad_s], q[Q.tip_speed_m_s]
         k = p.lock_number / 8.0
-        up0 = -v0[:, 2] / vtip - ctx.inflow_0
-        rhs_c = 2.0 * body[:, 0] / om + k * (
-            ctx.swash_c - w[:, 1] / om - ctx.inflow_c + 2.0 * p.eta2 * up0 * (-v0[:, 1] / vtip)
+        up0 = -v0z / vtip - q[Q.inflow_0]
+        rhs_c = 2.0 * bx / om + k * (
+            q[Q.swash_c] - wy / om - q[Q.inflow_c] + 2.0 * p.eta2 * up0 * (-v0y / vtip)
         )
-        rhs_s = -2.0 * body[:, 1] / om + k * (
-            ctx.swash_s - w[:, 0] / om - ctx.inflow_s + 2.0 * p.eta2 * up0 * (-v0[:, 0] / vtip)
+        rhs_s = -2.0 * by / om + k * (
+            q[Q.swash_s] - wx / om - q[Q.inflow_s] + 2.0 * p.eta2 * up0 * (-v0x / vtip)
         )
         om2 = om * om
-        ddac = om2 * (rhs_c - k * (dac / om + as_)) - 2.0 * om * das
-        ddas = om2 * (rhs_s - k * (das / om - ac)) + 2.0 * om * dac
-        ctx.set_rates(self.name, np.column_stack([dac, das, ddac, ddas]))
+        ds[0] = dac
+        ds[1] = das
+        ds[2] = om2 * (rhs_c - k * (dac / om + as_)) - 2.0 * om * das
+        ds[3] = om2 * (rhs_s - k * (das / om - ac)) + 2.0 * om * dac

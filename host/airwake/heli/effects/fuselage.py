@@ -2,13 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.heli.effects.base import Effect, Parameter, col, register_effect
-
-
-def _wake(ctx, name: str):
-    return getattr(ctx, name, np.zeros(ctx.n))
+from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, air_velocity_at, kernel
 
 
 @register_effect("fuselage")
@@ -29,9 +24,11 @@ class Fuselage(Effect):
     )
     REQUIRES = ("rigid_body",)
 
-    def forces(self, ctx, p) -> None:
-        v = ctx.air_velocity_at(np.zeros(3))
-        v[:, 2] += _wake(ctx, "rotor_wake_m_s")
-        c = np.stack(np.broadcast_arrays(p.cx_m2, p.cy_m2, p.cz_m2), -1)
-        f = col(ctx.air_density_kg_m3 / 6.0) * c * v * np.abs(v)
-        ctx.add_load(self.name, f, 0.0)
+    @kernel
+    def forces(q, p, s, ds, load, scratch):
+        vx, vy, vz = air_velocity_at(q, 0.0, 0.0, 0.0)
+        vz += q[Q.rotor_wake_m_s]  # zero without a main rotor
+        k = q[Q.air_density_kg_m3] / 6.0
+        load[0] += k * p.cx_m2 * vx * abs(vx)
+        load[1] += k * p.cy_m2 * vy * abs(vy)
+        load[2] += k * p.cz_m2 * vz * abs(vz)

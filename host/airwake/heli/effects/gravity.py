@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, kernel
 
 
 @register_effect("gravity")
@@ -14,13 +15,17 @@ class Gravity(Effect):
 
     PARAMETERS = (Parameter("g_m_s2", 9.798, "m/s^2", (9.7, 9.9), "Table 5.1 (g)", fixed=True),)
     REQUIRES = ("rigid_body",)
+    LOAD_SENSED = False
 
-    def environment(self, ctx, p) -> None:
-        ctx.gravity_m_s2 = p.g_m_s2
+    @kernel
+    def environment(q, p, s, ds, load, scratch):
+        q[Q.gravity_m_s2] = p.g_m_s2
 
-    def forces(self, ctx, p) -> None:
-        st, ct = np.sin(ctx.pitch_rad), np.cos(ctx.pitch_rad)
-        sf, cf = np.sin(ctx.roll_rad), np.cos(ctx.roll_rad)
-        mg = ctx.mass_kg * p.g_m_s2
-        f = np.column_stack([-st, ct * sf, ct * cf]) * np.reshape(mg, (-1, 1))
-        ctx.add_load(self.name, f, 0.0, sensed=False)
+    @kernel
+    def forces(q, p, s, ds, load, scratch):
+        st, ct = math.sin(q[Q.pitch_rad]), math.cos(q[Q.pitch_rad])
+        sf, cf = math.sin(q[Q.roll_rad]), math.cos(q[Q.roll_rad])
+        mg = q[Q.mass_kg] * p.g_m_s2
+        load[0] += -st * mg
+        load[1] += ct * sf * mg
+        load[2] += ct * cf * mg

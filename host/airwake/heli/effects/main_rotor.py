@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from airwake.heli.context import cross
-from airwake.heli.effects.base import Effect, Parameter, State, col, register_effect
+from airwake.heli.effects.base import Effect, Parameter, State, register_effect
+from airwake.heli.kernel import Q, air_velocity_at, cross, kernel
 
 # Azimuth quadrature. Every integrand is a trigonometric polynomial of degree <= 5 in the
 # blade azimuth psi (first-harmonic states times blade-element products), so an 8-point
@@ -14,20 +16,14 @@ N_PSI = 8
 PSI = 2.0 * np.pi * np.arange(N_PSI) / N_PSI
 COS = np.cos(PSI)
 SIN = np.sin(PSI)
-# columns: mean, mean*cos, mean*sin
-_W3 = np.column_stack([np.ones(N_PSI), COS, SIN]) / N_PSI
-_BASIS = np.vstack([np.ones(N_PSI), COS, SIN])  # (3, N_PSI)
+CC = COS * COS
+CS = COS * SIN
+SS = SIN * SIN
+W = 1.0 / N_PSI  # azimuth-average weight
 
-
-def _harm(a: np.ndarray) -> np.ndarray:
-    """(N, N_PSI) samples -> (N, 3): <a>, <a cos psi>, <a sin psi>."""
-    return a @ _W3
-
-
-def _series(x0, xc, xs):
-    """First-harmonic series x0 + xc cos psi + xs sin psi sampled at PSI, (N, N_PSI)."""
-    n = max(np.size(x0), np.size(xc), np.size(xs))
-    return np.column_stack(np.broadcast_arrays(x0, xc, xs, np.zeros(n))[:3]) @ _BASIS
+# scratch layout (per row, rotor_loading -> forces): eight azimuth samples of each
+_C, _D, _TH, _BE, _ZP, _T0, _T1, _T2, _I0, _I1 = (k * N_PSI for k in range(10))
+_KT = 10 * N_PSI
 
 
 @register_effect("main_rotor")
@@ -103,162 +99,216 @@ class MainRotor(Effect):
         State("zeta_s_dot_rad_s", "rad/s", ""),
     )
     REQUIRES = ("rigid_body",)
+    SCRATCH = _KT + 1
 
-    # -- stages -----------------------------------------------------------------------
-    def environment(self, ctx, p) -> None:
-        h = np.asarray(p.hub_height_m, dtype=float)
-        ctx.wind_origin_m = np.stack([np.zeros_like(h), np.zeros_like(h), -h], -1)
-        ctx.rotor_sense = p.rotation
+    # -- stages (compiled kernels, one row each) -------------------------------------
+    @kernel
+    def environment(q, p, s, ds, load, scratch):
+        q[Q.wind_origin_m] = 0.0
+        q[Q.wind_origin_m + 1] = 0.0
+        q[Q.wind_origin_m + 2] = -p.hub_height_m
+        q[Q.rotor_sense] = p.rotation
 
-    def rotor_speed(self, ctx, p) -> None:
-        meas = ctx.rotor_speed_meas_rad_s
-        ctx.rotor_speed_rad_s = np.where(np.isfinite(meas), meas, p.nominal_speed_rad_s)
+    @kernel
+    def rotor_speed(q, p, s, ds, load, scratch):
+        meas = q[Q.rotor_speed_meas_rad_s]
+        q[Q.rotor_speed_rad_s] = meas if math.isfinite(meas) else p.nominal_speed_rad_s
 
-    def rotor_setup(self, ctx, p) -> None:
-        s = np.asarray(p.rotation, dtype=float)
-        om = ctx.rotor_speed_rad_s
+    @kernel
+    def rotor_setup(q, p, s, ds, load, scratch):
+        sense = p.rotation
+        om = q[Q.rotor_speed_rad_s]
         vtip = om * p.radius_m
-        r_hub = ctx.wind_origin_m
-        v0 = ctx.air_velocity_at(r_hub)
+        v0x, v0y, v0z = air_velocity_at(q, q[Q.wind_origin_m], q[Q.wind_origin_m + 1],
+                                        q[Q.wind_origin_m + 2])
         # rotor frame: vectors y -> s*y, pseudo-vectors (rates) x, z -> s*x, s*z
-        v0r = v0 * np.stack([np.ones_like(s), s, np.ones_like(s)], -1)
-        w_rel = ctx.wind_w_rad_s - ctx.omega_b_rad_s
-        wr = w_rel * np.stack([s, np.ones_like(s), s], -1)
-        body_r = ctx.omega_b_rad_s * np.stack([s, np.ones_like(s), s], -1)
-        ctx.hub_air_velocity_m_s = v0
-        ctx.advance_ratio = np.hypot(v0r[:, 0], v0r[:, 1]) / vtip
-        ctx.axial_flow_ratio = v0r[:, 2] / vtip
-        ctx._cache["rotor_frame"] = dict(v0=v0r, w=wr, body=body_r, vtip=vtip, om=om)
+        v0y_r = v0y * sense
+        q[Q.hub_air_velocity_m_s] = v0x
+        q[Q.hub_air_velocity_m_s + 1] = v0y
+        q[Q.hub_air_velocity_m_s + 2] = v0z
+        q[Q.hub_air_velocity_rotor_m_s] = v0x
+        q[Q.hub_air_velocity_rotor_m_s + 1] = v0y_r
+        q[Q.hub_air_velocity_rotor_m_s + 2] = v0z
+        for j in range(3):
+            w_rel = q[Q.wind_w_rad_s + j] - q[Q.omega_b_rad_s + j]
+            k = 1.0 if j == 1 else sense
+            q[Q.rel_rotation_rotor_rad_s + j] = w_rel * k
+            q[Q.body_rates_rotor_rad_s + j] = q[Q.omega_b_rad_s + j] * k
+        q[Q.tip_speed_m_s] = vtip
+        q[Q.advance_ratio] = math.hypot(v0x, v0y_r) / vtip
+        q[Q.axial_flow_ratio] = v0z / vtip
 
-    def blade_pitch(self, ctx, p) -> None:
+    @kernel
+    def blade_pitch(q, p, s, ds, load, scratch):
         # Rotor-frame swashplate: + lateral command tilts the disk right (roll right),
         # + longitudinal command tilts it forward (nose down), whatever the rotor sense.
-        ctx.swash_c = -np.asarray(p.rotation) * ctx.delta_lat_rad
-        ctx.swash_s = -ctx.delta_lon_rad
-        ctx.theta_0 = ctx.delta_col_rad
-        ctx.theta_c = ctx.swash_c
-        ctx.theta_s = ctx.swash_s
+        q[Q.swash_c] = -p.rotation * q[Q.delta_lat_rad]
+        q[Q.swash_s] = -q[Q.delta_lon_rad]
+        q[Q.theta_0] = q[Q.delta_col_rad]
+        q[Q.theta_c] = q[Q.swash_c]
+        q[Q.theta_s] = q[Q.swash_s]
 
-    def rotor_loading(self, ctx, p) -> None:
-        rf = ctx._cache["rotor_frame"]
-        v0, wr, vtip, om = rf["v0"], rf["w"], rf["vtip"], rf["om"]
-        st = ctx.state(self.name)
-        b0, bc, bs, db0, dbc, dbs = (st[:, i] for i in range(6))
-        z0, zc, zs, dz0, dzc, dzs = (st[:, i] for i in range(6, 12))
-        vt = col(vtip)
-        omc = col(om)
-        # U_T = a + b rbar, U_P = c + d rbar  (c, d without inflow)
-        a = -(col(v0[:, 0]) * SIN + col(v0[:, 1]) * COS) / vt
-        zeta_p = _series(dz0 / om, dzc / om + zs, dzs / om - zc)
-        b = 1.0 + col(wr[:, 2]) / omc + zeta_p
-        beta = _series(b0, bc, bs)
-        beta_p = _series(db0 / om, dbc / om + bs, dbs / om - bc)
-        er_v0 = -col(v0[:, 0]) * COS + col(v0[:, 1]) * SIN
-        c = -col(v0[:, 2]) / vt - beta * er_v0 / vt
-        d = -(col(wr[:, 0]) * SIN + col(wr[:, 1]) * COS) / omc - beta_p
-        theta = _series(ctx.theta_0, ctx.theta_c, ctx.theta_s)
-        t0 = a + 0.5 * b
-        t1 = 0.5 * a + b / 3.0
-        t2 = a / 3.0 + 0.25 * b
-        i0tt = a * a + a * b + b * b / 3.0
-        i1tt = 0.5 * a * a + 2.0 / 3.0 * a * b + 0.25 * b * b
-        lift = theta * i0tt + c * t0 + d * t1
-        mom = theta * i1tt + c * t1 + d * t2
+    @kernel
+    def rotor_loading(q, p, s, ds, load, scratch):
+        v0x = q[Q.hub_air_velocity_rotor_m_s]
+        v0y = q[Q.hub_air_velocity_rotor_m_s + 1]
+        v0z = q[Q.hub_air_velocity_rotor_m_s + 2]
+        wrx = q[Q.rel_rotation_rotor_rad_s]
+        wry = q[Q.rel_rotation_rotor_rad_s + 1]
+        wrz = q[Q.rel_rotation_rotor_rad_s + 2]
+        vt = q[Q.tip_speed_m_s]
+        om = q[Q.rotor_speed_rad_s]
+        b0, bc, bs, db0, dbc, dbs = s[0], s[1], s[2], s[3], s[4], s[5]
+        zc, zs, dz0, dzc, dzs = s[7], s[8], s[9], s[10], s[11]
+        th0, thc, ths = q[Q.theta_0], q[Q.theta_c], q[Q.theta_s]
+        # first-harmonic series x0 + xc cos psi + xs sin psi, ' = d/dpsi
+        zp0, zpc, zps = dz0 / om, dzc / om + zs, dzs / om - zc  # zeta'
+        bp0, bpc, bps = db0 / om, dbc / om + bs, dbs / om - bc  # beta'
+        lift_m = mom_c = mom_s = t0_m = t1_c = t1_s = cc = cs = ss = 0.0
+        for k in range(N_PSI):
+            ck, sk = COS[k], SIN[k]
+            # U_T = a + b rbar, U_P = c + d rbar  (c, d without inflow)      (5.5, 5.6)
+            a = -(v0x * sk + v0y * ck) / vt
+            zeta_p = zp0 + zpc * ck + zps * sk
+            b = 1.0 + wrz / om + zeta_p
+            beta = b0 + bc * ck + bs * sk
+            beta_p = bp0 + bpc * ck + bps * sk
+            er_v0 = -v0x * ck + v0y * sk
+            c = -v0z / vt - beta * er_v0 / vt
+            d = -(wrx * sk + wry * ck) / om - beta_p
+            theta = th0 + thc * ck + ths * sk
+            t0 = a + 0.5 * b
+            t1 = 0.5 * a + b / 3.0
+            t2 = a / 3.0 + 0.25 * b
+            i0tt = a * a + a * b + b * b / 3.0
+            i1tt = 0.5 * a * a + 2.0 / 3.0 * a * b + 0.25 * b * b
+            lift = theta * i0tt + c * t0 + d * t1
+            mom = theta * i1tt + c * t1 + d * t2
+            lift_m += lift * W
+            mom_c += mom * (COS[k] * W)
+            mom_s += mom * (SIN[k] * W)
+            t0_m += t0 * W
+            t1_c += t1 * (COS[k] * W)
+            t1_s += t1 * (SIN[k] * W)
+            cc += t2 * CC[k]
+            cs += t2 * CS[k]
+            ss += t2 * SS[k]
+            scratch[_C + k] = c
+            scratch[_D + k] = d
+            scratch[_TH + k] = theta
+            scratch[_BE + k] = beta
+            scratch[_ZP + k] = zeta_p
+            scratch[_T0 + k] = t0
+            scratch[_T1 + k] = t1
+            scratch[_T2 + k] = t2
+            scratch[_I0 + k] = i0tt
+            scratch[_I1 + k] = i1tt
         # Loads in coefficient form [C_T, m_c, m_s] (m: first harmonics of the lift moment,
         # normalised by rho pi R^2 (Omega R)^2 R), affine in the inflow (l0, lc, ls).
-        k_t = np.asarray(p.blade_count * p.lock_number * p.flap_inertia_kg_m2
-                         / (2.0 * ctx.air_density_kg_m3 * np.pi * p.radius_m**5), dtype=float)
-        base = np.column_stack([(lift @ _W3)[:, 0], (mom @ _W3)[:, 1:]]) * col(k_t)
-        h_t0 = t0 @ _W3
-        h_t1 = t1 @ _W3
-        cc = (t2 * (COS * COS)).mean(1)
-        cs = (t2 * (COS * SIN)).mean(1)
-        ss = (t2 * (SIN * SIN)).mean(1)
-        jac = -np.stack(
-            [
-                np.stack([h_t0[:, 0], h_t1[:, 1], h_t1[:, 2]], -1),
-                np.stack([h_t1[:, 1], cc, cs], -1),
-                np.stack([h_t1[:, 2], cs, ss], -1),
-            ],
-            -2,
-        ) * np.reshape(k_t, (-1, 1, 1))
-        ctx.rotor_load_base = base
-        ctx.rotor_load_jac = jac
-        ctx._cache["main_rotor"] = dict(
-            a=a, b=b, c=c, d=d, theta=theta, beta=beta, zeta_p=zeta_p, t0=t0, t1=t1, t2=t2,
-            i0tt=i0tt, i1tt=i1tt, k_t=k_t,
-        )
-        for name in ("inflow_0", "inflow_c", "inflow_s"):
-            if not hasattr(ctx, name):
-                setattr(ctx, name, np.zeros(ctx.n))
+        k_t = (p.blade_count * p.lock_number * p.flap_inertia_kg_m2
+               / (2.0 * q[Q.air_density_kg_m3] * np.pi * p.radius_m**5))
+        scratch[_KT] = k_t
+        q[Q.rotor_load_base] = lift_m * k_t
+        q[Q.rotor_load_base + 1] = mom_c * k_t
+        q[Q.rotor_load_base + 2] = mom_s * k_t
+        cc, cs, ss = cc * W, cs * W, ss * W
+        jac = (t0_m, t1_c, t1_s, t1_c, cc, cs, t1_s, cs, ss)
+        for j in range(9):
+            q[Q.rotor_load_jac + j] = -jac[j] * k_t
 
-    def forces(self, ctx, p) -> None:
-        cm = ctx._cache["main_rotor"]
-        rf = ctx._cache["rotor_frame"]
-        om = rf["om"]
-        theta, beta = cm["theta"], cm["beta"]
-        t0, t1, t2, i0tt, i1tt = cm["t0"], cm["t1"], cm["t2"], cm["i0tt"], cm["i1tt"]
-        c = cm["c"] - col(ctx.inflow_0)
-        d = cm["d"] - (col(ctx.inflow_c) * COS + col(ctx.inflow_s) * SIN)
-        i0tp = c * t0 + d * t1
-        i1tp = c * t1 + d * t2
-        i0pp = c * c + c * d + d * d / 3.0
-        i1pp = 0.5 * c * c + 2.0 / 3.0 * c * d + 0.25 * d * d
-        lift = theta * i0tt + i0tp  # int F_L drbar            (5.7, 5.10)
-        mom = theta * i1tt + i1tp  # int F_L rbar drbar       (5.8)
-        ct = cm["k_t"] * lift.mean(1)
-        k_drag = col((p.drag_delta0 + p.drag_delta2 * ct * ct) / p.lift_slope_per_rad)
-        drag0 = i0pp + theta * i0tp - k_drag * i0tt  # int F_D drbar   (5.7)
-        drag1 = i1pp + theta * i1tp - k_drag * i1tt  # int F_D rbar drbar
-        nb = p.blade_count
+    @kernel
+    def forces(q, p, s, ds, load, scratch):
+        om = q[Q.rotor_speed_rad_s]
+        k_t = scratch[_KT]
+        l0, lc, ls = q[Q.inflow_0], q[Q.inflow_c], q[Q.inflow_s]
+        # C_T first: the profile drag depends on it
+        lift_m = 0.0
+        for k in range(N_PSI):
+            c = scratch[_C + k] - l0
+            d = scratch[_D + k] - (lc * COS[k] + ls * SIN[k])
+            i0tp = c * scratch[_T0 + k] + d * scratch[_T1 + k]
+            lift_m += (scratch[_TH + k] * scratch[_I0 + k] + i0tp) * W
+        ct = k_t * lift_m
+        k_drag = (p.drag_delta0 + p.drag_delta2 * ct * ct) / p.lift_slope_per_rad
         gam = p.lock_number
-        scale = nb * gam * p.flap_inertia_kg_m2 * om * om / (2.0 * p.radius_m)
-        # eq 5.10: rotor-averaged force, n = -z - beta e_r, e_r = (-cos, sin, 0)
-        bl = beta * lift
-        fx = (bl * COS + drag0 * SIN).mean(1) * scale
-        fy = (-bl * SIN + drag0 * COS).mean(1) * scale
-        fz = -lift.mean(1) * scale
-        # eq 5.8 in multi-blade coordinates
-        st = ctx.state(self.name)
-        b0, bc, bs, db0, dbc, dbs = (st[:, i] for i in range(6))
-        z0, zc, zs, dz0, dzc, dzs = (st[:, i] for i in range(6, 12))
-        body = rf["body"]
-        hm = mom @ _W3
-        r0 = 0.5 * gam * hm[:, 0]
-        rc = 2.0 * body[:, 0] / om + gam * hm[:, 1]
-        rs = -2.0 * body[:, 1] / om + gam * hm[:, 2]
-        om2 = om * om
-        lb2 = 1.0 + p.flap_stiffness_nm_rad / (p.flap_inertia_kg_m2 * om2)
-        ddb0 = om2 * (r0 - lb2 * b0)
-        ddbc = om2 * (rc - (lb2 - 1.0) * bc) - 2.0 * om * dbs
-        ddbs = om2 * (rs - (lb2 - 1.0) * bs) + 2.0 * om * dbc
-        # eq 5.9 (lead positive) with structural damping, multi-blade coordinates
         e = p.lag_hinge_offset
+        om2 = om * om
         lz2 = 1.5 * e / (1.0 - e) + p.lag_stiffness_nm_rad / (p.flap_inertia_kg_m2 * om2)
-        lz = np.sqrt(lz2)
-        rhs_z = 0.5 * col(gam) * drag1 - col(2.0 * p.lag_damping_ratio * lz) * cm["zeta_p"]
-        hz = rhs_z @ _W3
-        ddz0 = om2 * (hz[:, 0] - lz2 * z0)
-        ddzc = om2 * (2.0 * hz[:, 1] - (lz2 - 1.0) * zc) - 2.0 * om * dzs
-        ddzs = om2 * (2.0 * hz[:, 2] - (lz2 - 1.0) * zs) + 2.0 * om * dzc
-        ctx.set_rates(
-            self.name,
-            np.column_stack([db0, dbc, dbs, ddb0, ddbc, ddbs, dz0, dzc, dzs, ddz0, ddzc, ddzs]),
-        )
+        lz = math.sqrt(lz2)
+        damp = 2.0 * p.lag_damping_ratio * lz
+        fx = fy = hm0 = hm1 = hm2 = hz0 = hz1 = hz2 = drag1_m = 0.0
+        for k in range(N_PSI):
+            ck, sk = COS[k], SIN[k]
+            theta, t0, t1, t2 = (scratch[_TH + k], scratch[_T0 + k], scratch[_T1 + k],
+                                 scratch[_T2 + k])
+            i0tt, i1tt = scratch[_I0 + k], scratch[_I1 + k]
+            c = scratch[_C + k] - l0
+            d = scratch[_D + k] - (lc * ck + ls * sk)
+            i0tp = c * t0 + d * t1
+            i1tp = c * t1 + d * t2
+            i0pp = c * c + c * d + d * d / 3.0
+            i1pp = 0.5 * c * c + 2.0 / 3.0 * c * d + 0.25 * d * d
+            lift = theta * i0tt + i0tp  # int F_L drbar            (5.7, 5.10)
+            mom = theta * i1tt + i1tp  # int F_L rbar drbar       (5.8)
+            drag0 = i0pp + theta * i0tp - k_drag * i0tt  # int F_D drbar   (5.7)
+            drag1 = i1pp + theta * i1tp - k_drag * i1tt  # int F_D rbar drbar
+            # eq 5.10: rotor-averaged force, n = -z - beta e_r, e_r = (-cos, sin, 0)
+            bl = scratch[_BE + k] * lift
+            fx += (bl * ck + drag0 * sk) * W
+            fy += (-bl * sk + drag0 * ck) * W
+            hm0 += mom * W
+            hm1 += mom * (ck * W)
+            hm2 += mom * (sk * W)
+            rhs_z = 0.5 * gam * drag1 - damp * scratch[_ZP + k]
+            hz0 += rhs_z * W
+            hz1 += rhs_z * (ck * W)
+            hz2 += rhs_z * (sk * W)
+            drag1_m += drag1 * W
+        nb = p.blade_count
+        scale = nb * gam * p.flap_inertia_kg_m2 * om * om / (2.0 * p.radius_m)
+        fx *= scale
+        fy *= scale
+        fz = -lift_m * scale
+        # eq 5.8 in multi-blade coordinates
+        b0, bc, bs, db0, dbc, dbs = s[0], s[1], s[2], s[3], s[4], s[5]
+        z0, zc, zs, dz0, dzc, dzs = s[6], s[7], s[8], s[9], s[10], s[11]
+        r0 = 0.5 * gam * hm0
+        rc = 2.0 * q[Q.body_rates_rotor_rad_s] / om + gam * hm1
+        rs = -2.0 * q[Q.body_rates_rotor_rad_s + 1] / om + gam * hm2
+        lb2 = 1.0 + p.flap_stiffness_nm_rad / (p.flap_inertia_kg_m2 * om2)
+        ds[0] = db0
+        ds[1] = dbc
+        ds[2] = dbs
+        ds[3] = om2 * (r0 - lb2 * b0)
+        ds[4] = om2 * (rc - (lb2 - 1.0) * bc) - 2.0 * om * dbs
+        ds[5] = om2 * (rs - (lb2 - 1.0) * bs) + 2.0 * om * dbc
+        # eq 5.9 (lead positive) with structural damping, multi-blade coordinates
+        ds[6] = dz0
+        ds[7] = dzc
+        ds[8] = dzs
+        ds[9] = om2 * (hz0 - lz2 * z0)
+        ds[10] = om2 * (2.0 * hz1 - (lz2 - 1.0) * zc) - 2.0 * om * dzs
+        ds[11] = om2 * (2.0 * hz2 - (lz2 - 1.0) * zs) + 2.0 * om * dzc
         # eq 5.11: hub spring moments and the torque through the lag spring
         mx = -0.5 * nb * p.flap_stiffness_nm_rad * bs
         my = -0.5 * nb * p.flap_stiffness_nm_rad * bc
         mz = -nb * p.flap_inertia_kg_m2 * om2 * lz2 * z0
-        s = np.asarray(p.rotation, dtype=float)
-        force = np.column_stack([fx, s * fy, fz])
-        moment = np.column_stack([s * mx, my, s * mz]) + cross(ctx.wind_origin_m, force)
-        ctx.add_load(self.name, force, moment)
-        rho = ctx.air_density_kg_m3
+        sense = p.rotation
+        fy *= sense
+        hx, hy, hz = q[Q.wind_origin_m], q[Q.wind_origin_m + 1], q[Q.wind_origin_m + 2]
+        cx, cy, cz = cross(hx, hy, hz, fx, fy, fz)
+        load[0] += fx
+        load[1] += fy
+        load[2] += fz
+        load[3] += sense * mx + cx
+        load[4] += my + cy
+        load[5] += sense * mz + cz
         thrust = -fz
-        ctx.thrust_n = thrust
-        ctx.thrust_coeff = ct
-        ctx.rotor_torque_nm = -scale * p.radius_m * drag1.mean(1)
-        ctx.rotor_wake_m_s = ctx.inflow_0 * rf["vtip"] + np.sqrt(
-            np.maximum(thrust, 0.0) / (2.0 * rho * p.disk_area_m2)
-        )
-        ctx.flapping_rad = np.column_stack([b0, bc, bs])
+        q[Q.thrust_n] = thrust
+        q[Q.thrust_coeff] = ct
+        q[Q.rotor_torque_nm] = -scale * p.radius_m * drag1_m
+        q[Q.rotor_wake_m_s] = q[Q.inflow_0] * q[Q.tip_speed_m_s] + math.sqrt(
+            np.maximum(thrust, 0.0) / (2.0 * q[Q.air_density_kg_m3] * p.disk_area_m2))
+        q[Q.flapping_rad] = b0
+        q[Q.flapping_rad + 1] = bc
+        q[Q.flapping_rad + 2] = bs

@@ -2,28 +2,16 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from airwake.heli.effects.base import Effect, register_effect
+from airwake.heli.kernel import Q, kernel, solve3
 
 _K15 = 15.0 * np.pi / 64.0
-
-
-def solve3(m: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Solve a batch of 3x3 systems m (N,3,3) y = r (N,3) by Cramer's rule (np.linalg.solve
-    costs ~1 ms per batch of 2000 on small systems)."""
-    a, b, c = m[:, 0, 0], m[:, 0, 1], m[:, 0, 2]
-    d, e, f = m[:, 1, 0], m[:, 1, 1], m[:, 1, 2]
-    g, h, i = m[:, 2, 0], m[:, 2, 1], m[:, 2, 2]
-    co0 = e * i - f * h
-    co1 = f * g - d * i
-    co2 = d * h - e * g
-    det = a * co0 + b * co1 + c * co2
-    r0, r1, r2 = r[:, 0], r[:, 1], r[:, 2]
-    y0 = r0 * co0 + b * (f * r2 - r1 * i) + c * (r1 * h - e * r2)
-    y1 = a * (r1 * i - f * r2) + r0 * co1 + c * (d * r2 - r1 * g)
-    y2 = a * (e * r2 - r1 * h) + b * (r1 * g - d * r2) + r0 * co2
-    return np.stack([y0, y1, y2], -1) / det[:, None]
+_ITERATIONS = 5
+_EPS = 1e-4  # floor of V_T (keeps zero thrust at zero inflow well defined)
 
 
 @register_effect("pitt_peters_inflow")
@@ -47,63 +35,61 @@ class PittPetersInflow(Effect):
     """
 
     REQUIRES = ("main_rotor",)
-    ITERATIONS = 5
-    EPS = 1e-4  # floor of V_T (keeps zero thrust at zero inflow well defined)
+    ITERATIONS = _ITERATIONS
+    EPS = _EPS
 
-    def inflow(self, ctx, p) -> None:
-        base = ctx.rotor_load_base  # (N,3): C_T, m_c, m_s at zero inflow
-        jac = ctx.rotor_load_jac  # (N,3,3) d[C_T, m_c, m_s]/d[l0, lc, ls]
-        mu = ctx.advance_ratio
-        muz = ctx.axial_flow_ratio
-        v0 = ctx._cache["rotor_frame"]["v0"]
-        vxy = np.hypot(v0[:, 0], v0[:, 1])
-        safe = vxy > 1e-9
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
+        bt, bm_c, bm_s = q[Q.rotor_load_base], q[Q.rotor_load_base + 1], q[Q.rotor_load_base + 2]
+        j = q[Q.rotor_load_jac:Q.rotor_load_jac + 9]  # d[C_T, m_c, m_s]/d[l0, lc, ls]
+        mu = q[Q.advance_ratio]
+        muz = q[Q.axial_flow_ratio]
+        v0x = q[Q.hub_air_velocity_rotor_m_s]
+        v0y = q[Q.hub_air_velocity_rotor_m_s + 1]
+        vxy = math.hypot(v0x, v0y)
         # downstream azimuth: e_r(psi_d) parallel to the in-plane air velocity
-        cd = np.where(safe, -v0[:, 0] / np.where(safe, vxy, 1.0), 1.0)
-        sd = np.where(safe, v0[:, 1] / np.where(safe, vxy, 1.0), 0.0)
-        n = ctx.n
+        if vxy > 1e-9:
+            cd, sd = -v0x / vxy, v0y / vxy
+        else:
+            cd, sd = 1.0, 0.0
         # initial guess: hover momentum theory with the affine thrust
-        bt, j00 = base[:, 0], jac[:, 0, 0]
-        lam0 = np.sign(bt) * (j00 + np.sqrt(j00 * j00 + 8.0 * np.abs(bt))) / 4.0
-        e_a = np.stack([np.zeros(n), cd, sd], -1)  # picks m_A / lambda_A
-        e_b = np.stack([np.zeros(n), -sd, cd], -1)
-        ja = np.einsum("ni,nij->nj", e_a, jac)
-        jb = np.einsum("ni,nij->nj", e_b, jac)
-        ba = np.einsum("ni,ni->n", e_a, base)
-        bb = np.einsum("ni,ni->n", e_b, base)
-        jt = jac[:, 0, :]
-        m = np.empty((n, 3, 3))
-        rhs = np.empty((n, 3))
-        sol = np.stack([lam0, np.zeros(n), np.zeros(n)], -1)
-        for _ in range(self.ITERATIONS):
+        j00 = j[0]
+        lam0 = np.sign(bt) * (j00 + math.sqrt(j00 * j00 + 8.0 * abs(bt))) / 4.0
+        # e_a = (0, cd, sd) picks m_A / lambda_A, e_b = (0, -sd, cd)
+        ja0, ja1, ja2 = cd * j[3] + sd * j[6], cd * j[4] + sd * j[7], cd * j[5] + sd * j[8]
+        jb0, jb1, jb2 = -sd * j[3] + cd * j[6], -sd * j[4] + cd * j[7], -sd * j[5] + cd * j[8]
+        ba = cd * bm_c + sd * bm_s
+        bb = -sd * bm_c + cd * bm_s
+        jt0, jt1, jt2 = j[0], j[1], j[2]
+        s0, s1, s2 = lam0, 0.0, 0.0
+        for _ in range(_ITERATIONS):
             lt = lam0 + muz
             # V_T floored at half the hover inflow of the current thrust: keeps the
             # iteration defined in the vortex-ring state (lambda_t ~ 0), where momentum
             # theory has no solution; inactive in hover, climb and forward flight.
-            ct = bt + np.einsum("ni,ni->n", jt, sol)
-            v_free = np.sqrt(mu * mu + lt * lt + self.EPS**2)
-            vmin = 0.5 * np.sqrt(0.5 * np.abs(ct))
+            ct = bt + (jt0 * s0 + jt1 * s1 + jt2 * s2)
+            v_free = math.sqrt(mu * mu + lt * lt + _EPS**2)
+            vmin = 0.5 * math.sqrt(0.5 * abs(ct))
             free = v_free >= vmin
-            vt = np.where(free, v_free, vmin)
-            vmf = np.maximum((mu * mu + lt * (lt + lam0)) / vt, self.EPS)
-            x = np.clip(mu / np.maximum(vt + lt, 1e-9), 0.0, 1.0)
-            cchi = np.clip(lt / vt, 0.0, 1.0)
+            vt = v_free if free else vmin
+            vmf = np.maximum((mu * mu + lt * (lt + lam0)) / vt, _EPS)
+            x = np.minimum(np.maximum(mu / np.maximum(vt + lt, 1e-9), 0.0), 1.0)
+            cchi = np.minimum(np.maximum(lt / vt, 0.0), 1.0)
             g1 = 4.0 * cchi / (1.0 + cchi)
             g2 = 4.0 / (1.0 + cchi)
             kx = _K15 * x
             # lambda_0 V_T(lambda_0) linearised about the current lambda_0
-            dvt = np.where(free, lt / vt, 0.0)
+            dvt = lt / vt if free else 0.0
             a0 = np.maximum(vt + lam0 * dvt, 0.5 * vt)
             b0 = lam0 * lam0 * dvt
-            m[:, 0, :] = -0.5 * jt + kx[:, None] * ja
-            m[:, 0, 0] += a0
-            rhs[:, 0] = b0 + 0.5 * bt - kx * ba
-            m[:, 1, :] = vmf[:, None] * e_a - (kx[:, None] * jt + g1[:, None] * ja)
-            rhs[:, 1] = kx * bt + g1 * ba
-            m[:, 2, :] = vmf[:, None] * e_b - g2[:, None] * jb
-            rhs[:, 2] = g2 * bb
-            sol = solve3(m, rhs)
-            lam0 = sol[:, 0]
-        ctx.inflow_0 = sol[:, 0]
-        ctx.inflow_c = sol[:, 1]
-        ctx.inflow_s = sol[:, 2]
+            s0, s1, s2 = solve3(
+                -0.5 * jt0 + kx * ja0 + a0, -0.5 * jt1 + kx * ja1, -0.5 * jt2 + kx * ja2,
+                -(kx * jt0 + g1 * ja0), vmf * cd - (kx * jt1 + g1 * ja1),
+                vmf * sd - (kx * jt2 + g1 * ja2),
+                -g2 * jb0, vmf * -sd - g2 * jb1, vmf * cd - g2 * jb2,
+                b0 + 0.5 * bt - kx * ba, kx * bt + g1 * ba, g2 * bb,
+            )
+            lam0 = s0
+        q[Q.inflow_0] = s0
+        q[Q.inflow_c] = s1
+        q[Q.inflow_s] = s2

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from airwake.heli.effects.base import Effect, Parameter, State, col, register_effect
+from airwake.heli.effects.base import Effect, Parameter, State, register_effect
+from airwake.heli.kernel import Q, kernel
 
 _BODY_STATES = (
     State("pos_n_m", "m", "position north (NED, inertial)"),
@@ -63,42 +66,57 @@ class RigidBody(Effect):
     STATES = _BODY_STATES
     MEASURED_STATES = {s.name: s.name for s in _BODY_STATES}
 
-    def environment(self, ctx, p) -> None:
-        ctx.mass_kg = p.mass_kg
-        ctx.inertia = (p.Ixx_kg_m2, p.Iyy_kg_m2, p.Izz_kg_m2, p.Ixz_kg_m2)
+    @kernel
+    def environment(q, p, s, ds, load, scratch):
+        q[Q.mass_kg] = p.mass_kg
+        q[Q.inertia] = p.Ixx_kg_m2
+        q[Q.inertia + 1] = p.Iyy_kg_m2
+        q[Q.inertia + 2] = p.Izz_kg_m2
+        q[Q.inertia + 3] = p.Ixz_kg_m2
 
-    def body_dynamics(self, ctx, p) -> None:
-        f, m = ctx.total_load()
-        f_sensed, _ = ctx.total_load(sensed_only=True)
-        u, v, w = ctx.vel_b_m_s.T
-        pr, qr, rr = ctx.omega_b_rad_s.T
+    @kernel
+    def body_dynamics(q, p, s, ds, load, scratch):
+        fx, fy, fz = q[Q.force_n], q[Q.force_n + 1], q[Q.force_n + 2]
+        mx, my, mz = q[Q.moment_nm], q[Q.moment_nm + 1], q[Q.moment_nm + 2]
+        u, v, w = q[Q.vel_b_m_s], q[Q.vel_b_m_s + 1], q[Q.vel_b_m_s + 2]
+        pr, qr, rr = q[Q.omega_b_rad_s], q[Q.omega_b_rad_s + 1], q[Q.omega_b_rad_s + 2]
         mass = p.mass_kg
         ixx, iyy, izz, ixz = p.Ixx_kg_m2, p.Iyy_kg_m2, p.Izz_kg_m2, p.Ixz_kg_m2
         # eq 5.2, translational
-        udot = rr * v - qr * w + f[:, 0] / mass
-        vdot = pr * w - rr * u + f[:, 1] / mass
-        wdot = qr * u - pr * v + f[:, 2] / mass
+        udot = rr * v - qr * w + fx / mass
+        vdot = pr * w - rr * u + fy / mass
+        wdot = qr * u - pr * v + fz / mass
         # eq 5.2, rotational: solve the 2x2 (p', r') system coupled through I_xz
-        rhs_p = (iyy - izz) * qr * rr + ixz * pr * qr + m[:, 0]
-        rhs_r = (ixx - iyy) * pr * qr - ixz * qr * rr + m[:, 2]
+        rhs_p = (iyy - izz) * qr * rr + ixz * pr * qr + mx
+        rhs_r = (ixx - iyy) * pr * qr - ixz * qr * rr + mz
         det = ixx * izz - ixz * ixz
         pdot = (izz * rhs_p + ixz * rhs_r) / det
         rdot = (ixz * rhs_p + ixx * rhs_r) / det
-        qdot = ((izz - ixx) * rr * pr + ixz * (rr * rr - pr * pr) + m[:, 1]) / iyy
+        qdot = ((izz - ixx) * rr * pr + ixz * (rr * rr - pr * pr) + my) / iyy
         # Euler kinematics
-        sf, cf = np.sin(ctx.roll_rad), np.cos(ctx.roll_rad)
-        ct, tt = np.cos(ctx.pitch_rad), np.tan(ctx.pitch_rad)
+        roll, pitch, yaw = q[Q.roll_rad], q[Q.pitch_rad], q[Q.yaw_rad]
+        sf, cf = math.sin(roll), math.cos(roll)
+        ct, tt = math.cos(pitch), math.tan(pitch)
         a = qr * sf + rr * cf
-        rolldot = pr + a * tt
-        pitchdot = qr * cf - rr * sf
-        yawdot = a / ct
-        ned = np.einsum("nij,nj->ni", body_to_ned(ctx.roll_rad, ctx.pitch_rad, ctx.yaw_rad),
-                        ctx.vel_b_m_s)
-        rates = np.column_stack(
-            [ned, udot, vdot, wdot, rolldot, pitchdot, yawdot, pdot, qdot, rdot]
-        )
-        ctx.set_rates(self.name, rates)
-        ctx.meas[:, 0:3] = f_sensed / col(mass)
-        ctx.meas[:, 3] = pdot
-        ctx.meas[:, 4] = qdot
-        ctx.meas[:, 5] = rdot
+        # position rate: C_nb (ZYX Euler) times the body velocity
+        st = math.sin(pitch)
+        cp, sp = math.cos(yaw), math.sin(yaw)
+        ds[0] = cp * ct * u + (cp * st * sf - sp * cf) * v + (cp * st * cf + sp * sf) * w
+        ds[1] = sp * ct * u + (sp * st * sf + cp * cf) * v + (sp * st * cf - cp * sf) * w
+        ds[2] = -st * u + ct * sf * v + ct * cf * w
+        ds[3] = udot
+        ds[4] = vdot
+        ds[5] = wdot
+        ds[6] = pr + a * tt
+        ds[7] = qr * cf - rr * sf
+        ds[8] = a / ct
+        ds[9] = pdot
+        ds[10] = qdot
+        ds[11] = rdot
+        # measurement at the CG: specific force (sensed loads / M) and angular accelerations
+        q[Q.meas] = q[Q.sensed_force_n] / mass
+        q[Q.meas + 1] = q[Q.sensed_force_n + 1] / mass
+        q[Q.meas + 2] = q[Q.sensed_force_n + 2] / mass
+        q[Q.meas + 3] = pdot
+        q[Q.meas + 4] = qdot
+        q[Q.meas + 5] = rdot

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from airwake.heli.context import cross
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, add_load, air_velocity_at, cross, kernel
+
+_ITERATIONS = 6
 
 
 @register_effect("tail_rotor")
@@ -38,34 +42,32 @@ class TailRotor(Effect):
         Parameter("disk_area_m2", 3.3e-2, "m^2", (0.001, 1.0), "Table 5.1 (A_dT)"),
     )
     REQUIRES = ("main_rotor",)
-    ITERATIONS = 6
+    ITERATIONS = _ITERATIONS
 
-    def forces(self, ctx, p) -> None:
-        n = ctx.n
-        zero = np.zeros_like(np.asarray(p.arm_m, dtype=float))
-        r_t = np.stack([-np.asarray(p.arm_m, dtype=float), zero, -zero - p.height_m], -1)
-        vt = ctx.air_velocity_at(r_t)
-        tip = p.speed_ratio * ctx.rotor_speed_rad_s * p.radius_m
-        mu2 = (vt[:, 0] ** 2 + vt[:, 2] ** 2) / (tip * tip)
-        lam_y = vt[:, 1] / tip
-        theta = ctx.delta_ped_rad
-        ctx.tail_pitch_rad = theta
+    @kernel
+    def forces(q, p, s, ds, load, scratch):
+        rx, ry, rz = -p.arm_m, 0.0, -p.height_m
+        vx, vy, vz = air_velocity_at(q, rx, ry, rz)
+        tip = p.speed_ratio * q[Q.rotor_speed_rad_s] * p.radius_m
+        mu2 = (vx**2 + vz**2) / (tip * tip)
+        lam_y = vy / tip
+        theta = q[Q.delta_ped_rad]
+        q[Q.tail_pitch_rad] = theta
         k = p.blade_count * p.chord_m / (np.pi * p.radius_m) * p.lift_slope_per_rad / 2.0
         c_geo = k * (theta / 3.0 * (1.0 + 1.5 * mu2) - 0.5 * lam_y)  # C_T at lambda_i = 0
-        lam = np.sign(c_geo) * np.sqrt(np.abs(c_geo) / 2.0 + 1e-12) * 0.5
-        for _ in range(self.ITERATIONS):
+        lam = np.sign(c_geo) * math.sqrt(abs(c_geo) / 2.0 + 1e-12) * 0.5
+        for _ in range(_ITERATIONS):
             # f(l) = 2 l S(l) - C_T(l),  C_T(l) = c_geo - k l / 2
             lt = lam + lam_y
-            s = np.sqrt(mu2 + lt * lt + 1e-8)
-            f = 2.0 * lam * s - (c_geo - 0.5 * k * lam)
-            fp = 2.0 * s + 2.0 * lam * lt / s + 0.5 * k
+            sq = math.sqrt(mu2 + lt * lt + 1e-8)
+            f = 2.0 * lam * sq - (c_geo - 0.5 * k * lam)
+            fp = 2.0 * sq + 2.0 * lam * lt / sq + 0.5 * k
             lam = lam - f / fp
         ct = c_geo - 0.5 * k * lam
-        rho = ctx.air_density_kg_m3
+        rho = q[Q.air_density_kg_m3]
         thrust = ct * rho * np.pi * p.radius_m**2 * tip * tip
-        force = np.zeros((n, 3))
-        force[:, 1] = -thrust
-        ctx.add_load(self.name, force, cross(r_t, force))
-        ctx.tail_thrust_n = thrust
-        ctx.tail_inflow = lam
-        ctx.tail_wash_m_s = np.sign(thrust) * np.sqrt(np.abs(thrust) / (2.0 * rho * p.disk_area_m2))
+        mx, my, mz = cross(rx, ry, rz, 0.0, -thrust, 0.0)
+        add_load(load, 0.0, -thrust, 0.0, mx, my, mz)
+        q[Q.tail_thrust_n] = thrust
+        q[Q.tail_inflow] = lam
+        q[Q.tail_wash_m_s] = np.sign(thrust) * math.sqrt(abs(thrust) / (2.0 * rho * p.disk_area_m2))
