@@ -1,0 +1,32 @@
+"""`airwake bench` section "sim": the truth world's speed.
+
+`sim_realtime_factor`: simulated seconds per wall second for `still_air_calibration`
+with every sensor on (integration at 1 kHz + sensors + the flight table), one process;
+the split is reported beside it (`sim_integration_s`, `sim_sensors_s`, `sim_table_s`,
+and the integration's own factor `sim_integration_realtime_factor`).
+"""
+
+from __future__ import annotations
+
+SECTION = "sim"
+
+
+def run(quick: bool) -> dict:
+    from hil_sim.world.run import run_scenario
+    from hil_sim.world.scenario import load_scenario
+
+    duration = 5.0 if quick else 30.0
+    scenario = load_scenario("still_air_calibration")
+    result = run_scenario(scenario, seed=scenario.seed, duration_s=duration)
+    built = result.flight_table()
+    t = result.timing
+    return {
+        "sim_realtime_factor": round(result.realtime_factor, 3),
+        "sim_duration_s": duration,
+        "sim_rate_hz": scenario.rate_hz,
+        "sim_integration_s": round(t["integration"], 3),
+        "sim_sensors_s": round(t["sensors"], 3),
+        "sim_table_s": round(t["table"], 3),
+        "sim_integration_realtime_factor": round(duration / t["integration"], 3),
+        "sim_table_rows": int(len(built.df)),
+    }

@@ -1,0 +1,540 @@
+"""The simulation loop: a scenario -> truth trajectory, sensor samples, streams, flight table.
+
+    result = run_scenario(load_scenario("still_air_calibration"), seed=3, duration_s=20)
+    result.truth                 # Trajectory of the CG at the integration rate (truth)
+    result.imu_truth             # the IMU point's Trajectory (lever arm applied)
+    result.samples["vn200"]      # measured values per device (hil_sim.sensors samples)
+    result.streams()             # the bytes / edges each device emits (for the SIL boards)
+    built = result.flight_table()   # BuiltFlight: the shared builder + truth_* columns
+    write_flight_table(built.df, "flight.parquet", built.metadata)
+
+Integration: fixed-step classical RK4 at `scenario.rate_hz` (>= 1 kHz) of the truth
+`HeliModel` (host effects + hidden effects). Per step: the pilot's command (first-order
+hold between RC frames, delayed by the servo-lag scenario's pure delay) and the eq 5.3
+local wind at the hub (`HeldLocalWind`, refreshed at `wind_rate_hz`, zero-order hold)
+are held over the step; the height above ground/deck goes to the model's environment.
+The first RK4 stage is a full `evaluate`, whose measurement (specific force at the CG,
+angular accelerations) is the truth the IMU senses.
+
+Random numbers: one `SeedSequence(seed)` spawns a fixed child per consumer (wind,
+pilot, each device), so a seed gives the same flight and switching a device on or off
+does not change the others' noise.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from airwake.errors import AirwakeError
+
+from hil_sim.sensors.rc import RcReceiver, TailServoPwm
+from hil_sim.sensors.rotor import RotorTachometer
+from hil_sim.sensors.rtk import RtkReceiver
+from hil_sim.sensors.streams import sample_times
+from hil_sim.sensors.vn200 import Vn200
+from hil_sim.world.kinematics import (
+    Trajectory,
+    euler_to_dcm,
+    euler_to_quat,
+)
+from hil_sim.world.pilot import Pilot, build_reference
+from hil_sim.world.scenario import Scenario, vibration_for
+from hil_sim.world.ship import Ship
+from hil_sim.world.truth import BODY, TruthModel, build_truth_model
+
+# Fixed child index of each random consumer (never reorder: seeds would change flights).
+RNG_STREAMS = ("wind", "pilot", "vn200", "rc", "tail_servo", "rotor", "rtk", "base_vn200",
+               "reserved_losa", "reserved_marker", "reserved_anemometer", "streams")
+DIVERGED_RATE_RAD_S = 15.0  # a body rate above this means the flight is lost
+
+
+class SimulationError(AirwakeError):
+    """The flight cannot be simulated (diverged, bad duration): what and when."""
+
+
+# ---------------------------------------------------------------------------
+# Frames of the flight plan
+# ---------------------------------------------------------------------------
+
+
+class PlanFrame:
+    """The script's frame: "ned", or the ship's heading frame riding on the ship."""
+
+    def __init__(self, kind: str, ship: Ship | None) -> None:
+        self.kind = kind
+        self.ship = ship
+        heading = math.radians(ship.config.heading_deg) if ship is not None else 0.0
+        self.heading_rad = heading if kind == "ship" else 0.0
+        c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
+        self.rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])  # frame -> NED
+
+    def origin(self, t: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        """(position (N,3), velocity (N,3)) of the frame origin in NED."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if self.kind == "ned":
+            return np.zeros((t.size, 3)), np.zeros((t.size, 3))
+        return self.ship.origin_ned_m(t), self.ship.translational_velocity_ned(t)
+
+    def to_ned(self, t, p_frame, v_frame) -> tuple[np.ndarray, np.ndarray]:
+        o, vo = self.origin(t)
+        return o + p_frame @ self.rot.T, vo + v_frame @ self.rot.T
+
+    def from_ned(self, t: float, p_ned: np.ndarray) -> np.ndarray:
+        o, _ = self.origin(t)
+        return (p_ned - o[0]) @ self.rot
+
+
+# ---------------------------------------------------------------------------
+# Result
+# ---------------------------------------------------------------------------
+
+
+@dataclass
+class SimResult:
+    """Everything one simulated flight produced (see module docstring).
+
+    Arrays at the integration rate (N samples): `states` (N, S) full truth model state
+    (`state_names`), `commands_rad` (N, 4) pilot commands [col, lat, lon, ped] as the RC
+    records them, `applied_rad` (N, 4) blade pitch the rotor gets (after servo lag),
+    `wind_body` (N, 6) the eq 5.3 hub wind that drove the dynamics.
+    `samples`: device name -> measured samples ("vn200", "rc", "tail_servo", "rotor",
+    and "rtk", "base_vn200" where the site has them). `devices`: the sensor objects.
+    `timing`: wall seconds of "integration", "sensors" (and "table" after flight_table()).
+    """
+
+    scenario: Scenario
+    seed: int
+    duration_s: float
+    truth_model: TruthModel
+    truth: Trajectory
+    imu_truth: Trajectory
+    imu_position_m: np.ndarray
+    states: np.ndarray
+    state_names: list
+    commands_rad: np.ndarray
+    applied_rad: np.ndarray
+    wind_body: np.ndarray
+    samples: dict
+    devices: dict
+    ship: Ship | None
+    base_truth: Trajectory | None
+    pilot_info: dict
+    timing: dict = field(default_factory=dict)
+    _streams: dict | None = None
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall second (integration + sensors + table if built)."""
+        wall = sum(self.timing.values())
+        return self.duration_s / wall if wall > 0 else math.inf
+
+    def message_tables(self) -> dict:
+        """Per-message tables ("<board>/<message>" -> MessageTable) from the measured
+        values, as the recorder would export them (the flight-table builder's input)."""
+        return message_tables(self)
+
+    def flight_table(self):
+        """`BuiltFlight` (df, metadata): the shared builder + truth_* columns."""
+        t0 = time.perf_counter()
+        built = build_sim_flight_table(self)
+        self.timing["table"] = time.perf_counter() - t0
+        built.metadata.setdefault("sim", {})["realtime_factor"] = self.realtime_factor
+        return built
+
+    def streams(self) -> dict:
+        """Device name -> ByteStream / EdgeStream (what each device emits, timed)."""
+        if self._streams is None:
+            out = {}
+            s = self.samples
+            d = self.devices
+            out["rover/vn200"] = d["vn200"].stream(s["vn200"])
+            out["base/rc"] = d["rc"].stream(s["rc"])
+            out["rover/tail_servo"] = d["tail_servo"].stream(s["tail_servo"])
+            out["rover/rotor"] = d["rotor"].stream(s["rotor"])
+            if "rtk" in s:
+                out["rover/rtk"] = d["rtk"].stream(s["rtk"])
+            if "base_vn200" in s:
+                out["base/vn200"] = d["base_vn200"].stream(s["base_vn200"])
+            self._streams = out
+        return self._streams
+
+
+# ---------------------------------------------------------------------------
+# The loop
+# ---------------------------------------------------------------------------
+
+
+class TruthStepper:
+    """Fixed-step classical RK4 of one truth state, inputs/wind/height held over the step.
+
+        xdot, meas, omega = stepper.evaluate(x, u, w, h)   # the first stage, full context
+        x_next = stepper.step(x, u, w, h, dt, xdot)         # the other three stages
+
+    x (S,), u (4,), w (6,) eq 5.3 hub wind, h the hub height above ground/deck (m).
+    `meas` (6,) is the model's measurement (specific force at the CG, angular
+    accelerations) and `omega` the rotor speed it used, both at (x, u)."""
+
+    def __init__(self, model) -> None:
+        self.model = model
+
+    def evaluate(self, x, u, w, h):
+        ctx = self.model.evaluate(x[None], u[None], w[None], {"height_agl_m": np.array([h])})
+        omega = getattr(ctx, "rotor_speed_rad_s", None)
+        return ctx.xdot[0], ctx.meas[0], 0.0 if omega is None else float(omega[0])
+
+    def derivatives(self, x, u, w, h):
+        return self.model.derivatives(x[None], u[None], w[None],
+                                      {"height_agl_m": np.array([h])})[0]
+
+    def step(self, x, u, w, h, dt, k1=None):
+        if k1 is None:
+            k1 = self.derivatives(x, u, w, h)
+        k2 = self.derivatives(x + 0.5 * dt * k1, u, w, h)
+        k3 = self.derivatives(x + 0.5 * dt * k2, u, w, h)
+        k4 = self.derivatives(x + dt * k3, u, w, h)
+        return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def _height_function(scenario: Scenario, ship: Ship | None):
+    """Hub height above the ground / deck / sea for (t, hub NED)."""
+    if ship is None:
+        return lambda t, hub: -float(hub[2])
+    return lambda t, hub: float(ship.height_above_surface(t, hub[None])[0])
+
+
+def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float | None = None,
+                 *, progress=None, rate_hz: float | None = None,
+                 sensors: bool = True) -> SimResult:
+    """Fly `scenario` (its seed/duration unless given) and sample every sensor.
+
+    `rate_hz` overrides the integration rate (tests of the integrator only); `sensors=
+    False` skips the devices (truth only). `progress`: an `airwake.progress.Progress`-like
+    object (update(done_s), finish()) or None."""
+    from hil_sim.world.wind import HeldLocalWind, build_wind_field
+
+    seed = scenario.seed if seed is None else int(seed)
+    duration = scenario.duration_s if duration_s is None else float(duration_s)
+    if not duration > 0:
+        raise SimulationError(f"duration_s = {duration!r}: must be > 0")
+    rate = scenario.rate_hz if rate_hz is None else float(rate_hz)
+    dt = 1.0 / rate
+    children = np.random.SeedSequence(seed).spawn(len(RNG_STREAMS))
+    rngs = {name: np.random.default_rng(c) for name, c in zip(RNG_STREAMS, children,
+                                                              strict=True)}
+    t_start = time.perf_counter()
+
+    truth = build_truth_model(scenario.helicopter.spec, scenario.helicopter.overrides,
+                              scenario.hidden)
+    model = truth.model
+    ship = Ship(scenario.ship) if scenario.ship is not None else None
+    field_ = build_wind_field(scenario.wind, rng=rngs["wind"], ship=ship)
+    held = HeldLocalWind(field_, rate_hz=scenario.wind_rate_hz)
+    frame = PlanFrame(scenario.pilot.frame, ship)
+    height_of = _height_function(scenario, ship)
+    hub_off = truth.hub_offset_body_m
+    body = model.state_slice(BODY)
+    b = body.start
+
+    # -- initial trim at the start point ----------------------------------------------
+    pc = scenario.pilot
+    yaw0_frame = math.radians(pc.yaw_deg) if pc.yaw_deg is not None else 0.0
+    yaw0 = frame.heading_rad + yaw0_frame
+    p0_ned, v0_ned = frame.to_ned(0.0, np.asarray(pc.start_m, float)[None], np.zeros((1, 3)))
+    p0_ned, v0_ned = p0_ned[0], v0_ned[0]
+    level = euler_to_dcm(np.array([0.0, 0.0, yaw0]))
+    v0_body = level.T @ v0_ned
+    hub0 = p0_ned + level @ hub_off
+    w0 = field_.local_wind(0.0, hub0, euler_to_quat(np.array([0.0, 0.0, yaw0])),
+                           unsteady=False, turbulence=False)
+    h0 = height_of(0.0, hub0)
+    tr = truth.trim(v0_body, yaw_rad=yaw0, wind=w0, height_agl_m=h0)
+    x = tr.x.copy()
+    x[b:b + 3] = p0_ned
+    x[b + 8] = yaw0
+
+    # -- pilot --------------------------------------------------------------------------
+    rc_timing = scenario.sensors.rc.timing
+    knots = sample_times(0.0, duration + 1.0 / rc_timing.frame_rate_hz,
+                         rc_timing.frame_rate_hz, rc_timing.phase_s)
+    ref = build_reference(pc, knots, rngs["pilot"])
+    x_lin = tr.x.copy()
+    x_lin[b:b + 3] = 0.0
+    x_lin[b + 8] = 0.0
+    lin_trim = type(tr)(x_lin, tr.u, tr.residual, tr.iterations)
+    env0 = {"height_agl_m": np.array([h0])}
+    pilot = Pilot(model, lin_trim, ref, pc.gains, body_slice=body, wind=w0, env=env0)
+    pilot.trim = type(tr)(tr.x.copy(), tr.u, tr.residual, tr.iterations)
+    ref_pos_ned, ref_vel_ned = frame.to_ned(knots, ref.pos_m, ref.vel_m_s)
+    lag = scenario.hidden.enabled().get("servo_lag")
+    delay = lag.delay_s if lag is not None else 0.0
+    lag_slice = model.state_slice("hil_servo_lag") if "hil_servo_lag" in model else None
+
+    # -- integrate --------------------------------------------------------------------
+    steps = int(round(duration * rate))
+    n = steps + 1
+    s_dim = model.n_states
+    xs = np.empty((n, s_dim))
+    meas = np.empty((n, 6))
+    omega = np.empty(n)
+    cmds = np.empty((n, 4))
+    winds = np.empty((n, 6))
+    heights = np.empty(n)
+    knot = 0
+    n_knots = knots.size
+    stepper = TruthStepper(model)
+    report_every = max(1, int(rate))
+    for i in range(n):
+        t = i * dt
+        roll, pitch, yaw = x[b + 6], x[b + 7], x[b + 8]
+        rot = euler_to_dcm(np.array([roll, pitch, yaw]))
+        while knot < n_knots - 1 and knots[knot] <= t + 1e-9:
+            p_frame = frame.from_ned(knots[knot], x[b:b + 3][None])[0]
+            v_ref_body = rot.T @ ref_vel_ned[knot]
+            pilot.update(knot, x, p_frame, v_ref_body, yaw - frame.heading_rad)
+            knot += 1
+        u = pilot.command(t - delay)
+        hub = x[b:b + 3] + rot @ hub_off
+        quat = euler_to_quat(np.array([roll, pitch, yaw]))
+        w = held(t, hub, quat)
+        h = height_of(t, hub)
+        k1, meas[i], omega[i] = stepper.evaluate(x, u, w, h)
+        xs[i] = x
+        cmds[i] = pilot.command(t)
+        winds[i] = w
+        heights[i] = h
+        if i == steps:
+            break
+        x = stepper.step(x, u, w, h, dt, k1)
+        if i % 100 == 0:
+            if not np.all(np.isfinite(x)) or np.max(np.abs(x[b + 9:b + 12])) > \
+                    DIVERGED_RATE_RAD_S or abs(x[b + 7]) > 1.3:
+                raise SimulationError(
+                    f"scenario {scenario.name!r}: the helicopter left the envelope at "
+                    f"t = {t:.2f} s (rates {np.round(x[b + 9:b + 12], 2).tolist()} rad/s, "
+                    f"attitude {np.round(np.degrees(x[b + 6:b + 9]), 1).tolist()} deg)")
+        if progress is not None and i % report_every == 0:
+            progress.update(t)
+    t_integrated = time.perf_counter()
+    ts = np.arange(n) * dt
+    applied = xs[:, lag_slice] if lag_slice is not None else cmds
+
+    # -- truth trajectory -----------------------------------------------------------------
+    euler = xs[:, b + 6:b + 9]
+    quat = euler_to_quat(euler)
+    rots = euler_to_dcm(euler)
+    vel_ned = np.einsum("nij,nj->ni", rots, xs[:, b + 3:b + 6])
+    ship_traj = ship.trajectory(ts) if ship is not None else None
+    traj = Trajectory.from_states(
+        ts, xs[:, b:b + 3], vel_ned, quat, xs[:, b + 9:b + 12],
+        ang_acc_body_rad_s2=meas[:, 3:6], specific_force_body_m_s2=meas[:, 0:3],
+        rotor_speed_rad_s=omega, blade_pitch_rad=cmds, height_agl_m=heights, ship=ship_traj)
+    lever = scenario.hidden.enabled().get("lever_arm")
+    r_imu = np.asarray(lever.position_m if lever is not None else (0.0, 0.0, 0.0), float)
+    imu_traj = traj.at_point(r_imu)
+
+    result = SimResult(
+        scenario=scenario, seed=seed, duration_s=duration, truth_model=truth, truth=traj,
+        imu_truth=imu_traj, imu_position_m=r_imu, states=xs, state_names=list(
+            model.state_names), commands_rad=cmds, applied_rad=applied, wind_body=winds,
+        samples={}, devices={}, ship=ship, base_truth=None,
+        pilot_info={"trim_u_rad": tr.u.tolist(), "trim_roll_rad": float(tr.x[b + 6]),
+                    "trim_pitch_rad": float(tr.x[b + 7]),
+                    "closed_loop_spectral_radius": pilot.closed_loop_radius,
+                    "saturated_frames": pilot.saturated,
+                    "wind_description": field_.describe(),
+                    "reference_pos_ned_m": ref_pos_ned, "reference_t_s": knots})
+    result.timing["integration"] = t_integrated - t_start
+    if progress is not None:
+        progress.finish()
+    if sensors:
+        _measure(result, rngs)
+        result.timing["sensors"] = time.perf_counter() - t_integrated
+    return result
+
+
+def _measure(result: SimResult, rngs: dict) -> None:
+    """Every device's measured values from the truth (fills samples and devices)."""
+    import dataclasses
+
+    sc = result.scenario
+    cfg = sc.sensors
+    vn_cfg = dataclasses.replace(cfg.vn200, imu=dataclasses.replace(
+        cfg.vn200.imu, vibration=vibration_for(cfg)))
+    d = result.devices
+    s = result.samples
+    d["vn200"] = Vn200(vn_cfg, rng=rngs["vn200"])
+    s["vn200"] = d["vn200"].measure(result.imu_truth)
+    d["rc"] = RcReceiver(cfg.rc, rng=rngs["rc"])
+    s["rc"] = d["rc"].measure(result.truth)
+    d["tail_servo"] = TailServoPwm(cfg.tail_servo, rng=rngs["tail_servo"])
+    s["tail_servo"] = d["tail_servo"].measure(result.truth)
+    d["rotor"] = RotorTachometer(cfg.rotor, rng=rngs["rotor"])
+    s["rotor"] = d["rotor"].measure(result.truth)
+    ts = result.truth.t_s
+    if sc.rtk_enabled:
+        rover_ant = result.truth.at_point(np.asarray(cfg.rover_antenna_m, float))
+        if result.ship is not None:
+            base = result.truth.ship.at_point(np.asarray(cfg.base_antenna_m, float))
+        else:
+            p = np.asarray(cfg.base_antenna_m, float)
+            base = Trajectory.from_states(
+                ts, np.broadcast_to(p, (ts.size, 3)), np.zeros((ts.size, 3)),
+                np.broadcast_to([1.0, 0.0, 0.0, 0.0], (ts.size, 4)), np.zeros((ts.size, 3)),
+                ang_acc_body_rad_s2=np.zeros((ts.size, 3)),
+                specific_force_body_m_s2=np.broadcast_to([0.0, 0.0, -9.798], (ts.size, 3)))
+        result.base_truth = base
+        d["rtk"] = RtkReceiver(cfg.rtk, rng=rngs["rtk"])
+        s["rtk"] = d["rtk"].measure(rover_ant, base)
+    if result.ship is not None:
+        d["base_vn200"] = Vn200(cfg.base_vn200, rng=rngs["base_vn200"])
+        s["base_vn200"] = d["base_vn200"].measure(
+            result.truth.ship.at_point(np.asarray(cfg.base_ins_m, float)))
+
+
+# ---------------------------------------------------------------------------
+# Message tables and the flight table
+# ---------------------------------------------------------------------------
+
+TRUTH_STATE_COLUMNS = ("pos_n_m", "pos_e_m", "pos_d_m", "vel_u_m_s", "vel_v_m_s", "vel_w_m_s",
+                       "roll_rad", "pitch_rad", "yaw_rad", "p_rad_s", "q_rad_s", "r_rad_s")
+TRUTH_MEAS_COLUMNS = ("acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2", "pdot_rad_s2", "qdot_rad_s2",
+                      "rdot_rad_s2")
+INPUT_COLUMNS = ("delta_col_rad", "delta_lat_rad", "delta_lon_rad", "delta_ped_rad")
+
+
+def message_tables(result: SimResult) -> dict:
+    """"<board>/<message>" -> MessageTable filled from the devices' measured values, with
+    each message's host time = the instant the device sampled (no link latency: the SIL
+    path adds the real transport and board clocks)."""
+    from airwake.record.flight_builder import message_table
+
+    s = result.samples
+    out = {}
+    vn = s["vn200"]
+    out["rover/ins"] = _ins_table(vn)
+    rc = s["rc"]
+    out["base/pilot_inputs"] = message_table(
+        "pilot_inputs", rc.t_s, pwm_us=np.round(rc.width_us).astype(np.uint16),
+        valid_mask=0x1F)
+    rot = s["rotor"]
+    if len(rot) >= 2:
+        interval = np.diff(rot.t_s)
+        out["rover/rotor_speed"] = message_table(
+            "rotor_speed", rot.t_s[1:], rotor_speed_rad_s=rot.rotor_speed_rad_s,
+            pulse_interval_us=np.round(interval * 1e6).astype(np.uint32),
+            pulse_count=np.arange(2, len(rot) + 1, dtype=np.uint32))
+    ts = s["tail_servo"]
+    out["rover/tail_servo"] = message_table(
+        "tail_servo", ts.t_s, pulse_width_us=np.round(ts.width_us[:, 0]).astype(np.uint16),
+        valid=1)
+    if "rtk" in s:
+        r = s["rtk"]
+        base = np.nan_to_num(r.baseline_ned_m, nan=0.0)
+        out["rover/rtk_baseline"] = message_table(
+            "rtk_baseline", r.t_s, gps_tow_ms=r.tow_ms.astype(np.uint32),
+            baseline_ned_mm=np.round(base * 1000.0).astype(np.int32),
+            h_accuracy_mm=np.round(r.h_accuracy_m * 1000).astype(np.uint16),
+            v_accuracy_mm=np.round(r.v_accuracy_m * 1000).astype(np.uint16),
+            num_sats=r.n_sats.astype(np.uint8), fix_mode=r.fix_mode.astype(np.uint8))
+    if "base_vn200" in s:
+        out["base/ins"] = _ins_table(s["base_vn200"])
+    return out
+
+
+def _ins_table(vn):
+    from airwake.record.flight_builder import message_table
+
+    return message_table(
+        "ins", vn.t_s, time_startup_ns=vn.time_startup_ns, ypr_deg=vn.ypr_deg,
+        angular_rate_frd_rad_s=vn.rates_body_rad_s, lat_deg=vn.lla[:, 0], lon_deg=vn.lla[:, 1],
+        alt_m=vn.lla[:, 2], vel_ned_m_s=vn.vel_ned_m_s, accel_frd_m_s2=vn.accel_body_m_s2,
+        ins_status=vn.ins_status)
+
+
+def build_config(result: SimResult):
+    """The builder settings this flight's set-up implies (origin, antenna, base height)."""
+    from airwake.record.flight_builder import FlightBuildConfig
+    from airwake.record.rigging import PwmRigging
+
+    sc = result.scenario
+    cfg = sc.sensors
+    hub = result.truth_model.hub_offset_body_m
+    rover_to_hub = hub - np.asarray(cfg.rover_antenna_m, float)
+    base_h = cfg.base_antenna_height_m
+    if base_h is None:
+        base_h = -float(cfg.base_antenna_m[2])
+    m = cfg.rc.mapping
+    rigging = PwmRigging(center_us=m.center_us, gain_rad_per_us=m.gain_rad_per_us,
+                         offset_rad=m.offset_rad)
+    return FlightBuildConfig(ned_origin_lla=tuple(cfg.vn200.origin_lla),
+                             base_antenna_height_above_deck_m=base_h,
+                             rover_antenna_to_hub_frd_m=tuple(rover_to_hub.tolist()),
+                             rigging=rigging)
+
+
+def truth_columns(result: SimResult, t_s: np.ndarray) -> dict:
+    """truth_* columns at times t_s (interpolated from the integration-rate truth):
+    noise-free states of the CG, the noise-free IMU channels at the IMU point (hidden
+    effects included, vibration and sensor errors excluded), rotor speed, hub height,
+    the eq 5.3 wind and the blade pitch the rotor got."""
+    from hil_sim.world.wind import LOCAL_WIND_COLUMNS
+
+    tr = result.truth.at(t_s)
+    imu = result.imu_truth.at(t_s)
+    t_all = result.truth.t_s
+
+    def interp(a):
+        return np.stack([np.interp(t_s, t_all, a[:, j]) for j in range(a.shape[1])], -1)
+
+    cols = {}
+    b = result.truth_model.model.state_slice(BODY).start
+    body = interp(result.states[:, b:b + 12])
+    for j, name in enumerate(TRUTH_STATE_COLUMNS):
+        cols[f"truth_{name}"] = body[:, j]
+    cols["truth_yaw_rad"] = np.pi - np.mod(np.pi - body[:, 8], 2 * np.pi)
+    meas = np.column_stack([imu.specific_force_body_m_s2, imu.ang_acc_body_rad_s2])
+    for j, name in enumerate(TRUTH_MEAS_COLUMNS):
+        cols[f"truth_{name}"] = meas[:, j]
+    cols["truth_rotor_speed_rad_s"] = tr.rotor_speed_rad_s
+    cols["truth_height_agl_m"] = tr.height_agl_m
+    wind = interp(result.wind_body)
+    for j, name in enumerate(LOCAL_WIND_COLUMNS):
+        cols[name] = wind[:, j]
+    applied = interp(result.applied_rad)
+    for j, name in enumerate(INPUT_COLUMNS):
+        cols[f"truth_{name}"] = applied[:, j]
+    return cols
+
+
+def build_sim_flight_table(result: SimResult):
+    """The flight table through the shared builder (`airwake.record.flight_builder`)
+    plus the truth_* columns and the simulation metadata."""
+    from airwake.record.flight_builder import build_flight_table
+
+    from hil_sim.sensors.config import config_to_dict
+
+    built = build_flight_table(message_tables(result), build_config(result))
+    df = built.df
+    cols = truth_columns(result, df["t_s"].to_numpy())
+    for k, v in cols.items():
+        df[k] = v
+    sc = result.scenario
+    meta = built.metadata
+    meta.update({
+        "source": "sim",
+        "scenario": sc.name,
+        "seed": result.seed,
+        "scenario_config": sc.describe(),
+        "sim": {"rate_hz": sc.rate_hz, "wind_rate_hz": sc.wind_rate_hz,
+                "duration_s": result.duration_s, "site": sc.site.type,
+                "truth_spec": sc.helicopter.spec,
+                "imu_position_m": result.imu_position_m.tolist(),
+                "pilot": {k: v for k, v in result.pilot_info.items()
+                          if not isinstance(v, np.ndarray)},
+                "timing_s": dict(result.timing)},
+        "sensors": {name: config_to_dict(dev.config) for name, dev in result.devices.items()},
+    })
+    return built
