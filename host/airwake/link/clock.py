@@ -49,6 +49,14 @@ BACK_JUMP_US = 1_000_000  # a clock frame this far behind the epoch's latest: a 
 LONG_GAP_US = 600_000_000  # beyond this host gap, the wrap count comes from host time
 BIN_US = 1_000_000
 WINDOW_S = 60.0
+# Below this span of board time the rate is taken as 1 (offset only): a short window's
+# hull slope is dominated by how the first reads batched up (a port opened onto a
+# buffer of old frames puts them all at one receive time: slope -1 until more arrives).
+MIN_SLOPE_SPAN_US = 10_000_000
+# Sync replies needed before the fit goes two-sided: the down envelope takes the least
+# delayed request, but with one or two a request that waited in a buffer (the port was
+# just opened) would pull the midpoint early by half its wait.
+MIN_DOWN_POINTS = 3
 
 
 @dataclass(frozen=True)
@@ -82,7 +90,8 @@ class ClockFit:
     @property
     def drift_ppm(self) -> float:
         """Board clock rate error against the host: +100 = the board runs 100 ppm fast."""
-        return (1.0 / self.line.rate - 1.0) * 1e6
+        rate = self.line.rate
+        return (1.0 / rate - 1.0) * 1e6 if rate > 0 else math.nan
 
 
 def lower_hull(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -105,7 +114,8 @@ def lower_hull(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def fit_envelope(up_x: np.ndarray, up_z: np.ndarray, down_x: np.ndarray | None = None,
                  down_z: np.ndarray | None = None, jitter_z: np.ndarray | None = None,
-                 jitter_x: np.ndarray | None = None) -> ClockFit | None:
+                 jitter_x: np.ndarray | None = None,
+                 min_span_us: float = MIN_SLOPE_SPAN_US) -> ClockFit | None:
     """Fit host - board = z(board) from envelope points.
 
     up_*: received frames (board time x, z = host_rx - x), the line is below them;
@@ -119,7 +129,7 @@ def fit_envelope(up_x: np.ndarray, up_z: np.ndarray, down_x: np.ndarray | None =
     ux, uz = up_x[order], up_z[order]
     x_ref = float(ux[len(ux) // 2])
     xs = ux - x_ref
-    if ux[-1] - ux[0] <= 0:
+    if ux[-1] - ux[0] < min_span_us:
         slope = 0.0
     else:
         hx, hz = lower_hull(xs, uz)
@@ -134,7 +144,7 @@ def fit_envelope(up_x: np.ndarray, up_z: np.ndarray, down_x: np.ndarray | None =
     c = c_up
     bound = math.inf
     two_sided = False
-    if down_x is not None and down_x.size:
+    if down_x is not None and down_x.size >= MIN_DOWN_POINTS:
         c_down = float(np.max(down_z - slope * (down_x - x_ref)))
         if c_down <= c_up:  # consistent envelopes: the truth lies between them
             c = 0.5 * (c_up + c_down)
@@ -367,17 +377,23 @@ class PiecewiseClock:
         return max((f.bound_us for f in self.fits), default=math.inf)
 
 
-def fit_piecewise(ep: Epoch, window_s: float = WINDOW_S, step_s: float = 15.0,
-                  bin_us: int = BIN_US) -> PiecewiseClock | None:
-    """Refit an epoch (kept with keep_all=True) in windows of window_s every step_s."""
-    ux, uz, dx, dz = ep.points()
+def fit_piecewise(up_x: np.ndarray, up_z: np.ndarray, down_x: np.ndarray | None = None,
+                  down_z: np.ndarray | None = None, window_s: float = WINDOW_S,
+                  step_s: float = 15.0) -> PiecewiseClock | None:
+    """Refit one epoch offline: `fit_envelope` in windows of window_s every step_s
+    (points as for fit_envelope: per-bin extremes of the whole epoch)."""
+    ux, uz = np.asarray(up_x, dtype=float), np.asarray(up_z, dtype=float)
+    dx = np.zeros(0) if down_x is None else np.asarray(down_x, dtype=float)
+    dz = np.zeros(0) if down_z is None else np.asarray(down_z, dtype=float)
     if ux.size == 0:
         return None
     lo, hi = float(ux.min()), float(ux.max())
     half = window_s * 1e6 / 2
     step = step_s * 1e6
-    centres = np.arange(lo + half, hi - half + step, step) if hi - lo > 2 * half else \
-        np.array([(lo + hi) / 2])
+    if hi - lo > 2 * half:
+        centres = np.arange(lo + half, hi - half + step, step)
+    else:
+        centres = np.array([(lo + hi) / 2])
     kb, kh, fits = [], [], []
     for c in centres:
         ku = (ux >= c - half) & (ux <= c + half)
@@ -391,3 +407,17 @@ def fit_piecewise(ep: Epoch, window_s: float = WINDOW_S, step_s: float = 15.0,
     if not fits:
         return None
     return PiecewiseClock(np.asarray(kb), np.asarray(kh), fits[0].line, fits[-1].line, fits)
+
+
+def bin_minima(x: np.ndarray, z: np.ndarray, bin_us: int = BIN_US) -> tuple[np.ndarray,
+                                                                            np.ndarray]:
+    """The point of smallest z in each bin of x (the lower envelope's candidates)."""
+    x = np.asarray(x, dtype=float)
+    z = np.asarray(z, dtype=float)
+    if x.size == 0:
+        return x, z
+    b = np.floor(x / bin_us)
+    order = np.lexsort((z, b))
+    first = np.concatenate([[True], np.diff(b[order]) != 0])
+    keep = order[first]
+    return x[keep], z[keep]

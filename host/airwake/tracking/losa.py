@@ -99,16 +99,16 @@ def triangulate(peak_px: np.ndarray, slot: np.ndarray, valid: np.ndarray,
     # Normal equations of N x = d over the valid planes.
     ata = np.einsum("...mi,...mj->...ij", normal, normal)
     atb = np.einsum("...mi,...m->...i", normal, offset)
-    ok = valid.sum(axis=-1) >= MIN_SENSORS
-    pos = np.full(peak_px.shape[:-1] + (3,), np.nan)
+    shape = peak_px.shape[:-1]
+    ata, atb = ata.reshape(-1, 3, 3), atb.reshape(-1, 3)
+    ok = (valid.sum(axis=-1) >= MIN_SENSORS).reshape(-1)
+    pos = np.full((ok.size, 3), np.nan)
     if np.any(ok):
         a, b = ata[ok], atb[ok]
-        cond = np.linalg.cond(a)
-        good = cond < max_condition
+        good = np.linalg.cond(a) < max_condition
         sol = np.full(b.shape, np.nan)
         if np.any(good):
             sol[good] = np.linalg.solve(a[good], b[good][..., None])[..., 0]
         pos[ok] = sol
-        ok = ok.copy()
         ok[ok] = good
-    return pos, ok
+    return pos.reshape(shape + (3,)), ok.reshape(shape)

@@ -1,0 +1,441 @@
+"""The ship-laptop daemon: serial ports -> decode -> clock mapping -> recording, with
+link health, the marker loop and clean shutdown (docs/daemon.md).
+
+One thread, one `selectors` loop over the ports' file descriptors: a port is read only
+when the OS says it has data, writes never block (what a stalled board does not take is
+dropped and counted), a lost port is reopened with backoff, so one slow or dead port
+never stalls the others. After each pass the loop sleeps the rest of `poll_s` (5 ms):
+frames then arrive a few per read instead of one per wake-up, which is most of the CPU
+saving (docs/daemon.md has the figures); host receive times stay within 5 ms.
+
+Per received chunk: the raw bytes go to `/raw/<role>` with the receive time; per decoded
+frame: its origin board's `BoardLink` counts it and maps its board time
+(`link.clock.BoardClock`), and the frame goes to `/<board>/<message>` as JSON. Per port
+every 0.5 s a `time_sync_request` (NTP-style: the board's reply gives the two-sided clock
+fit) and every 0.25 s one of the host's `schema_entry` announcements. With a marker and a
+LOSA tracker present, `marker_command` at 60 Hz to the marker's port.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import selectors
+import signal
+import socket
+import sys
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TextIO
+
+from airwake.link.decoder import StreamDecoder
+from airwake.link.framing import encode_frame
+from airwake.link.health import BoardLink, RateMeter, board_health, port_health
+from airwake.link.messages import (
+    BY_ID,
+    HEARTBEAT,
+    LOG_TEXT,
+    LOSA_PEAKS,
+    LOSA_RAW_REQUEST,
+    MARKER_ATTITUDE,
+    MARKER_COMMAND,
+    SCHEMA_ENTRY,
+    SCHEMA_HASH,
+    TIME_SYNC_REPLY,
+    TIME_SYNC_REQUEST,
+    SchemaEntry,
+    TimeSyncRequest,
+)
+from airwake.link.serial_port import PortSpec, SerialPort
+from airwake.record.recording import RecordingError, RecordingWriter, encode_decoded
+
+HOST_SENT_IDS = (SCHEMA_ENTRY.id, TIME_SYNC_REQUEST.id, MARKER_COMMAND.id, LOSA_RAW_REQUEST.id)
+LOSA_ID, MARKER_ID = 1, 2
+BOARD_ALIVE_S = 3.0  # a board whose heartbeat is older is not "present" for the marker loop
+
+
+@dataclass
+class DaemonOptions:
+    """Everything `airwake daemon` takes on its command line."""
+
+    ports: list[PortSpec]
+    out: Path
+    status_json: str | None = None  # path, "-" (JSON lines on stdout) or None
+    duration_s: float | None = None
+    view: bool = True
+    poll_s: float = 0.005
+    sync_period_s: float = 0.5
+    schema_period_s: float = 0.25
+    status_period_s: float = 1.0
+    marker_rate_hz: float = 60.0
+    flush_s: float = 0.25
+    segment_s: float = 600.0
+    record_metadata: dict = field(default_factory=dict)  # e.g. antenna offsets
+
+
+class PortState:
+    """A port, its decoder and its rate meter."""
+
+    def __init__(self, spec: PortSpec) -> None:
+        self.port = SerialPort(spec)
+        self.decoder = StreamDecoder()
+        self.rates = RateMeter()
+        self.raw_topic = f"/raw/{spec.role}"
+        self.tx_topic = f"/raw/{spec.role}/tx"
+        self.next_sync = 0.0
+        self.next_schema = 0.0
+        self.schema_index = 0
+        self.registered_fd = -1
+        self.problems: set[str] = set()
+
+    @property
+    def role(self) -> str:
+        return self.port.role
+
+
+class Daemon:
+    """See module doc. `run()` returns the exit status (0 clean, 1 recording failed)."""
+
+    def __init__(self, options: DaemonOptions, stdout: TextIO | None = None,
+                 stderr: TextIO | None = None) -> None:
+        self.opt = options
+        self.stdout = stdout or sys.stdout
+        self.stderr = stderr or sys.stderr
+        self.ports = [PortState(s) for s in options.ports]
+        roles = [p.role for p in self.ports]
+        if len(set(roles)) != len(roles):
+            raise RecordingError(f"--port roles must differ: {roles}")
+        self.boards: dict[int, BoardLink] = {}
+        self.topics: dict[tuple[int, int], str] = {}
+        self.events: deque = deque(maxlen=20)
+        self.start_ns = time.monotonic_ns()
+        self.start_wall = time.time()
+        from airwake import __version__
+        from airwake.daemon.marker_loop import MarkerLoop
+
+        self.marker = MarkerLoop(options.marker_rate_hz)
+        self.recorder = RecordingWriter(options.out, {
+            "daemon_version": __version__,
+            "schema_hash": f"0x{SCHEMA_HASH:08X}",
+            "host": socket.gethostname(),
+            "start_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(self.start_wall)),
+            "start_unix_ns": int(self.start_wall * 1e9),
+            "start_monotonic_ns": self.start_ns,
+            "host_clock": "CLOCK_MONOTONIC",
+            "ports": [{"role": s.role, "device": s.device, "baud": s.baud}
+                      for s in options.ports],
+            **options.record_metadata,
+        }, flush_s=options.flush_s, segment_s=options.segment_s)
+        self._stop = False
+        self._stop_reason = ""
+        self._sel = selectors.DefaultSelector()
+        self._request_id = 0
+        self._next_status = 0.0
+        self._reported_failure = False
+        self._tty = bool(getattr(self.stdout, "isatty", lambda: False)())
+        self.host_seq = [0] * 256
+
+    # -- events ---------------------------------------------------------------
+
+    def event(self, kind: str, text: str, loud: bool = False, **extra) -> None:
+        now_ns = time.monotonic_ns()
+        e = {"t_s": round((now_ns - self.start_ns) / 1e9, 3), "kind": kind, "text": text,
+             **extra}
+        self.events.append(e)
+        self.recorder.json("/daemon/events", now_ns, e)
+        if loud:
+            print(f"airwake daemon: {kind}: {text}", file=self.stderr, flush=True)
+
+    # -- main loop --------------------------------------------------------------
+
+    def request_stop(self, reason: str = "") -> None:
+        self._stop = True
+        self._stop_reason = reason
+
+    def _signal(self, signum, _frame) -> None:
+        self.request_stop(signal.Signals(signum).name)
+
+    def run(self) -> int:
+        old = {s: signal.signal(s, self._signal) for s in (signal.SIGINT, signal.SIGTERM)}
+        try:
+            self._loop()
+        finally:
+            for s, h in old.items():
+                signal.signal(s, h)
+            status = self._shutdown()
+        return status
+
+    def _loop(self) -> None:
+        end = None if self.opt.duration_s is None else time.monotonic() + self.opt.duration_s
+        poll = self.opt.poll_s
+        while not self._stop:
+            t0 = time.monotonic()
+            if end is not None and t0 >= end:
+                self.request_stop("duration reached")
+                break
+            for ps in self.ports:
+                if not ps.port.is_open and ps.port.try_open(t0):
+                    self._sel.register(ps.port.fd, selectors.EVENT_READ, ps)
+                    ps.registered_fd = ps.port.fd
+                    self.event("port_open", f"port {ps.role} open: {ps.port.spec.device}",
+                               port=ps.role, opens=ps.port.opens)
+            try:
+                ready = self._sel.select(timeout=0.05) if self._sel.get_map() else []
+            except InterruptedError:
+                ready = []
+            if not self._sel.get_map():
+                time.sleep(0.02)
+            for key, _ in ready:
+                self._read(key.data)
+            self._periodic(time.monotonic())
+            self._reap_lost()
+            spare = poll - (time.monotonic() - t0)
+            if spare > 0 and not self._stop:
+                time.sleep(spare)
+
+    def _reap_lost(self) -> None:
+        """Unregister ports that a read or write found gone (they reopen with backoff)."""
+        for ps in self.ports:
+            if ps.registered_fd >= 0 and not ps.port.is_open:
+                try:
+                    self._sel.unregister(ps.registered_fd)
+                except (KeyError, ValueError):
+                    pass
+                ps.registered_fd = -1
+                self.event("port_lost", f"port {ps.role} lost: {ps.port.last_error}; reopening "
+                           f"{ps.port.spec.device}", loud=True, port=ps.role)
+
+    def _read(self, ps: PortState) -> None:
+        if not ps.port.is_open:
+            return
+        data = ps.port.read()
+        rx_ns = time.monotonic_ns()
+        if not data:  # nothing, or lost (reaped after this pass)
+            return
+        self.recorder.raw(ps.raw_topic, rx_ns, data)
+        frames = ps.decoder.feed(data)
+        if frames:
+            host_us = rx_ns / 1000.0
+            now_s = (rx_ns - self.start_ns) / 1e9
+            for f in frames:
+                self._frame(ps, f, rx_ns, host_us, now_s)
+
+    def _frame(self, ps: PortState, f, rx_ns: int, host_us: float, now_s: float) -> None:
+        origin = f.flags & 0x07
+        b = self.boards.get(origin)
+        if b is None:
+            b = self.boards[origin] = BoardLink(origin, ps.role)
+            b.first_seen_s = now_s
+            self.event("board_seen", f"frames from {b.name} ({origin}) on port {ps.role}",
+                       board=b.name, port=ps.role)
+        mid = f.msg_id
+        clock = b.clock
+        n_epochs = len(clock.epochs)
+        if mid == HEARTBEAT.id:
+            clock.heartbeat(f.msg, f.board_time_us, host_us)
+            self._heartbeat(ps, b, f.msg, now_s)
+        elif mid == TIME_SYNC_REPLY.id:
+            clock.sync_reply(f.msg, f.board_time_us, host_us)
+        epoch, board_us, mapped_us = clock.frame(mid, f.board_time_us, host_us)
+        if len(clock.epochs) != n_epochs and n_epochs:
+            b.reset_sequences()
+            ep = clock.ep
+            self.event("epoch", f"{b.name}: new clock epoch {ep.index} ({ep.reason})",
+                       loud=True, board=b.name, epoch=ep.index)
+        b.count(mid, f.seq)
+        topic = self.topics.get((origin, mid))
+        info = BY_ID[mid]
+        if topic is None:
+            topic = self.topics[(origin, mid)] = f"/{b.name}/{info.name}"
+        body = encode_decoded(info, f.msg, f.seq, f.board_time_us, board_us, epoch)
+        self.recorder.decoded(topic, info, int(mapped_us * 1000.0), rx_ns, body)
+        if mid == LOSA_PEAKS.id:
+            self.marker.on_peaks(f.msg, now_s)
+        elif mid == MARKER_ATTITUDE.id:
+            self.marker.on_attitude(f.msg)
+        elif mid == LOG_TEXT.id:
+            text = bytes(f.msg.text_utf8).split(b"\0", 1)[0].decode("utf-8", "replace")
+            self.event("board_log", f"{b.name}: {text}", board=b.name, level=f.msg.level,
+                       code=f.msg.code)
+
+    def _heartbeat(self, ps: PortState, b: BoardLink, hb, now_s: float) -> None:
+        first = not b.identified
+        rebooted = (b.heartbeat is not None and hb.boot_count != b.heartbeat.boot_count)
+        b.heartbeat = hb
+        b.heartbeat_host_s = now_s
+        b.port = ps.role
+        if first or rebooted:
+            b.identified = True
+            ident = b.identity()
+            self.recorder.board(b.name, {**ident, "first_seen_s": b.first_seen_s})
+            ok = "schema OK" if ident["schema_ok"] else \
+                f"SCHEMA MISMATCH (ours 0x{SCHEMA_HASH:08X})"
+            self.event("board_identified",
+                       f"{b.name} on port {ps.role}: firmware {ident['fw_version']}, schema "
+                       f"{ident['schema_hash']} {ok}, boot count {hb.boot_count}",
+                       loud=not ident["schema_ok"], board=b.name, **ident)
+            if hb.board_id != b.origin:
+                self.event("identity", f"port {ps.role}: heartbeat board_id {hb.board_id} "
+                           f"differs from the frames' origin {b.origin}", loud=True)
+        self._check_schema(ps)
+
+    def _check_schema(self, ps: PortState) -> None:
+        """Report (once each, loudly) the decoder's schema problems on this port."""
+        for line in ps.decoder.schema_problems():
+            if line not in ps.problems:
+                ps.problems.add(line)
+                for b in self.boards.values():
+                    if f"({b.origin})" in line:
+                        b.schema_problems.append(line)
+                self.event("schema_mismatch", f"port {ps.role}: {line}", loud=True,
+                           port=ps.role)
+
+    # -- periodic work ----------------------------------------------------------
+
+    def _send(self, ps: PortState, msg, now_ns: int) -> None:
+        info = BY_ID[type(msg).MSG_ID]
+        seq = self.host_seq[info.id]
+        self.host_seq[info.id] = (seq + 1) & 0xFF
+        wire = encode_frame(msg, seq, 0, 0)
+        ps.port.write(wire)
+        self.recorder.raw(ps.tx_topic, now_ns, wire)
+        body = encode_decoded(info, msg, seq, 0, 0, 0)
+        self.recorder.decoded(f"/host/{info.name}", info, now_ns, now_ns, body)
+
+    def _periodic(self, now: float) -> None:
+        for ps in self.ports:
+            if not ps.port.is_open:
+                continue
+            if now >= ps.next_sync:
+                ps.next_sync = now + self.opt.sync_period_s
+                self._request_id = (self._request_id + 1) & 0xFFFFFFFF
+                now_ns = time.monotonic_ns()
+                self._send(ps, TimeSyncRequest(self._request_id, now_ns // 1000), now_ns)
+            if now >= ps.next_schema:
+                ps.next_schema = now + self.opt.schema_period_s
+                mid = HOST_SENT_IDS[ps.schema_index % len(HOST_SENT_IDS)]
+                ps.schema_index += 1
+                self._send(ps, SchemaEntry(mid, BY_ID[mid].def_hash, ps.schema_index
+                                           % len(HOST_SENT_IDS), len(HOST_SENT_IDS)),
+                           time.monotonic_ns())
+        self._marker_loop(now)
+        self.recorder.tick(now)
+        if self.recorder.failed and not self._reported_failure:
+            self._reported_failure = True
+            self.event("recording_failed", self.recorder.failed, loud=True)
+        if now >= self._next_status:
+            self._next_status = now + self.opt.status_period_s
+            self._status(now)
+
+    def _present(self, origin: int, now_s: float) -> BoardLink | None:
+        b = self.boards.get(origin)
+        if b is None or b.heartbeat_host_s is None or now_s - b.heartbeat_host_s > BOARD_ALIVE_S:
+            return None
+        return b
+
+    def _marker_loop(self, now: float) -> None:
+        now_s = (time.monotonic_ns() - self.start_ns) / 1e9
+        if not self.marker.due(now_s):
+            return
+        marker = self._present(MARKER_ID, now_s)
+        if marker is None or self._present(LOSA_ID, now_s) is None:
+            return
+        ps = next((p for p in self.ports if p.role == marker.port), None)
+        if ps is None or not ps.port.is_open:
+            return
+        cmd = self.marker.command(now_s)
+        now_ns = time.monotonic_ns()
+        self._send(ps, cmd, now_ns)
+        if cmd.pos_valid:
+            self.recorder.json("/host/tracker_position", now_ns,
+                               {"pos_tracker_m": list(cmd.pos_tracker_m)})
+
+    # -- status -------------------------------------------------------------------
+
+    def status(self, now: float | None = None) -> dict:
+        now_ns = time.monotonic_ns()
+        now_s = (now_ns - self.start_ns) / 1e9
+        ports = {}
+        for ps in self.ports:
+            p = ps.port
+            ports[ps.role] = port_health(
+                ps.role, p.spec.device, p.spec.baud, p.is_open, ps.decoder,
+                {"opens": p.opens, "losses": p.losses, "last_error": p.last_error,
+                 "tx_bytes": p.bytes_tx, "tx_dropped": p.tx_dropped,
+                 "seq_lost": sum(sum(b.lost) for b in self.boards.values()
+                                 if b.port == ps.role)},
+                ps.rates, now_s, sorted(b.name for b in self.boards.values()
+                                        if b.port == ps.role))
+        rec = self.recorder
+        return {
+            "t_s": round(now_s, 3),
+            "host_monotonic_ns": now_ns,
+            "recording": {"path": str(rec.directory), "state": "failed" if rec.failed else (
+                "closed" if rec.closed else "recording"), "error": rec.failed,
+                "bytes": rec.bytes_written, "messages": rec.messages,
+                "segments": len(rec.segments)},
+            "ports": ports,
+            "boards": {b.name: board_health(b, now_s) for b in self.boards.values()},
+            "marker_loop": self.marker.status(),
+            "events": list(self.events)[-5:],
+        }
+
+    def _status(self, now: float) -> None:
+        for ps in self.ports:
+            self._check_schema(ps)
+        st = self.status(now)
+        self.recorder.json("/daemon/status", st["host_monotonic_ns"], st)
+        target = self.opt.status_json
+        if target == "-":
+            print(json.dumps(st, default=str), file=self.stdout, flush=True)
+        elif target:
+            _atomic_write(Path(target), json.dumps(st, indent=1, default=str))
+        if self.opt.view:
+            from airwake.daemon.view import render
+
+            out = self.stderr if target == "-" else self.stdout
+            tty = bool(getattr(out, "isatty", lambda: False)())
+            text = render(st)
+            if tty:
+                out.write("\x1b[H\x1b[2J" + text + "\n")
+            else:
+                out.write(text + "\n")
+            out.flush()
+
+    def _shutdown(self) -> int:
+        for ps in self.ports:
+            if ps.registered_fd >= 0:
+                try:
+                    self._sel.unregister(ps.registered_fd)
+                except (KeyError, ValueError):
+                    pass
+                ps.registered_fd = -1
+            ps.port.close()
+        st = self.status()
+        summary = {
+            "stop_reason": self._stop_reason,
+            "duration_s": st["t_s"],
+            "ports": st["ports"],
+            "boards": {k: {kk: v[kk] for kk in ("board_id", "port", "fw_version", "frames",
+                                                "seq_lost", "clock") if kk in v}
+                       for k, v in st["boards"].items()},
+            "clock_epochs": {b.name: b.clock.events for b in self.boards.values()},
+        }
+        self.event("stop", f"stopping: {self._stop_reason or 'loop ended'}")
+        self.recorder.close(summary)
+        st = self.status()
+        if self.opt.status_json and self.opt.status_json != "-":
+            _atomic_write(Path(self.opt.status_json), json.dumps(st, indent=1, default=str))
+        if self.recorder.failed:
+            print(f"airwake daemon: error: {self.recorder.failed}", file=self.stderr, flush=True)
+            return 1
+        return 0
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+

@@ -1,0 +1,122 @@
+"""`airwake export REC --out FLIGHT.parquet|.csv` and `airwake recording info|recover`."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from airwake.errors import AirwakeError
+
+
+class ExportUsageError(AirwakeError):
+    """An export option that does not parse."""
+
+
+def _floats(text: str | None, n: int, option: str):
+    if text is None:
+        return None
+    try:
+        values = [float(x) for x in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != n:
+        raise ExportUsageError(f"{option} '{text}': expected {n} comma-separated numbers")
+    return tuple(values)
+
+
+def _export(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from airwake.record.export import export_recording
+    from airwake.record.flight_table import write_flight_table
+    from airwake.record.reader import open_recording
+
+    out = Path(args.out)
+    if out.suffix.lower() not in (".parquet", ".pq", ".csv"):
+        raise ExportUsageError(f"--out {out}: use a .parquet or .csv file name")
+    rec = open_recording(args.recording)
+    overrides = {
+        "ned_origin_lla": _floats(args.ned_origin, 3, "--ned-origin"),
+        "base_antenna_height_above_deck_m": args.base_antenna_height_m,
+        "rover_antenna_to_hub_frd_m": _floats(args.rover_antenna_to_hub_m, 3,
+                                              "--rover-antenna-to-hub-m"),
+        "tracker_height_above_ground_m": args.tracker_height_m,
+    }
+    built = export_recording(rec, overrides)
+    write_flight_table(built.df, out, built.metadata)
+    m = built.metadata
+    summary = {"out": str(out), "rows": len(built.df), "columns": list(built.df.columns),
+               "rate_hz": m.get("rate_hz"), "span_s": [m["trimmed"]["start_s"],
+                                                       m["trimmed"]["end_s"]],
+               "missing_streams": m["missing_streams"], "gaps": m["gaps"],
+               "recording_complete": m["recording_complete"], "clock": m["clock"]}
+    if args.json:
+        print(json.dumps(summary, indent=2, default=str))
+    else:
+        print(f"{out}: {len(built.df)} rows at {m['rate_hz']:.1f} Hz, "
+              f"{m['trimmed']['end_s'] - m['trimmed']['start_s']:.1f} s, "
+              f"{len(built.df.columns)} columns")
+        if not m["recording_complete"]:
+            print("note: the recording was not closed cleanly; exported what was readable")
+        if m["missing_streams"]:
+            print(f"warning: missing streams {m['missing_streams']}: their columns are absent",
+                  file=sys.stderr)
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    from airwake.record.reader import open_recording
+
+    d = open_recording(args.recording).describe()
+    if args.json:
+        print(json.dumps(d, indent=2, default=str))
+        return 0
+    print(f"{d['path']}: {'complete' if d['complete'] else 'NOT closed cleanly (recovered)'}")
+    for s in d["segments"]:
+        state = "indexed" if s["indexed"] else (
+            f"recovered {s['recovered_bytes']}/{s['bytes']} B ({s['error']})")
+        print(f"  {s['path']}: {s['bytes']} B, {state}")
+    for name, b in d["boards"].items():
+        print(f"  board {name}: port {b.get('port')}, firmware {b.get('fw_version')}, schema "
+              f"{b.get('schema_hash')}")
+    for topic, n in d["topics"].items():
+        print(f"  {topic:<32} {n:>9}")
+    return 0
+
+
+def _recover(args: argparse.Namespace) -> int:
+    from airwake.record.reader import recover_recording
+
+    path = recover_recording(args.recording, args.out)
+    print(f"{path}: closed, indexed copy of {args.recording}")
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "export", help="turn a daemon recording into a flight table (Parquet or CSV)",
+        description="Decode the recording's raw bytes, refit every board clock over the "
+        "whole recording and build the flight table (docs/flight-table.md, "
+        "docs/recordings.md). Geometry options override the recording's metadata.")
+    p.add_argument("recording", metavar="REC", help="recording directory (or one segment)")
+    p.add_argument("--out", required=True, metavar="FLIGHT.parquet|.csv")
+    p.add_argument("--ned-origin", metavar="LAT,LON,H")
+    p.add_argument("--base-antenna-height-m", type=float)
+    p.add_argument("--rover-antenna-to-hub-m", metavar="X,Y,Z")
+    p.add_argument("--tracker-height-m", type=float)
+    p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.set_defaults(func=_export)
+
+    g = subparsers.add_parser("recording", help="inspect or recover daemon recordings")
+    gs = g.add_subparsers(dest="recording_command", metavar="ACTION")
+    g.set_defaults(_group_parser=g)
+    i = gs.add_parser("info", help="segments, boards, topics and message counts")
+    i.add_argument("recording", metavar="REC")
+    i.add_argument("--json", action="store_true")
+    i.set_defaults(func=_info)
+    r = gs.add_parser("recover", help="write an unfinished recording out as closed, indexed "
+                      "MCAP")
+    r.add_argument("recording", metavar="REC")
+    r.add_argument("--out", required=True, metavar="DIR")
+    r.set_defaults(func=_recover)
