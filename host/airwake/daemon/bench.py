@@ -1,0 +1,112 @@
+"""`airwake bench` section "daemon": CPU and memory of the real daemon at full rates.
+
+Four fake boards (`daemon.fake_boards`: LOSA peaks 320 Hz + IMU, marker attitude + IMU
+120 Hz + anemometer, rover INS / rotor 150 Hz + RTK 10 Hz + tail, base INS 150 Hz +
+pilot inputs; ~1,500 frames/s, ~85 kB/s over three ptys) run in one process, the daemon
+(`airwake daemon`, recording, marker loop on) in another. The daemon's CPU time
+(utime + stime from /proc) and RSS are sampled once a second:
+
+- `daemon_cpu_fraction`: CPU seconds per wall second over the run after a 5 s warm-up;
+- `daemon_rss_growth_mb_per_h`: least-squares slope of RSS over the samples after 20 s
+  (allocator and caches warm), times 3600 — an extrapolation from `duration` seconds;
+  segments rotate every 30 s during the run so the writer's per-segment index is
+  exercised (it is freed at each rotation);
+- `daemon_rss_mb`, `daemon_frames_per_s`, `daemon_cpu_us_per_frame` for context.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+SECTION = "daemon"
+_TICK = os.sysconf("SC_CLK_TCK")
+
+
+def _cpu_s(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / _TICK  # utime, stime
+
+
+def _rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 20.0) -> dict:
+    with tempfile.TemporaryDirectory(prefix="airwake-bench-") as tmp:
+        run = Path(tmp)
+        boards = subprocess.Popen([sys.executable, "-m", "airwake.daemon.fake_boards", str(run),
+                                   str(duration_s + warmup_s + 15)],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            end = time.monotonic() + 10
+            while not all((run / r).exists() for r in ("losa", "marker", "base")):
+                if time.monotonic() > end:
+                    raise RuntimeError("fake boards did not start")
+                time.sleep(0.05)
+            status = run / "status.json"
+            cmd = [sys.executable, "-m", "airwake.cli", "daemon", "--out", str(run / "rec"),
+                   "--quiet", "--status-json", str(status), "--segment-s", "30",
+                   "--duration", str(duration_s + warmup_s + 5)]
+            for role in ("losa", "marker", "base"):
+                cmd += ["--port", f"{role}={run / role}"]
+            daemon = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+            try:
+                end = time.monotonic() + 30
+                while True:
+                    try:
+                        st = json.loads(status.read_text())
+                        if len(st["boards"]) == 4:
+                            break
+                    except (OSError, ValueError, KeyError):
+                        pass
+                    if time.monotonic() > end or daemon.poll() is not None:
+                        raise RuntimeError("daemon did not see the four boards: "
+                                           + daemon.stderr.read().decode()[-500:]
+                                           if daemon.poll() is not None else "timeout")
+                    time.sleep(0.1)
+                time.sleep(warmup_s)
+                pid = daemon.pid
+                t0, c0 = time.monotonic(), _cpu_s(pid)
+                frames0 = sum(p["frames"] for p in json.loads(status.read_text())
+                              ["ports"].values())
+                samples = []
+                while time.monotonic() - t0 < duration_s:
+                    time.sleep(1.0)
+                    samples.append((time.monotonic() - t0, _rss_mb(pid)))
+                t1, c1 = time.monotonic(), _cpu_s(pid)
+                frames1 = sum(p["frames"] for p in json.loads(status.read_text())
+                              ["ports"].values())
+            finally:
+                daemon.terminate()
+                daemon.wait(30)
+        finally:
+            boards.terminate()
+            boards.wait(30)
+    wall = t1 - t0
+    s = np.array(samples)
+    late = s[s[:, 0] >= min(rss_after_s, duration_s / 2)]
+    slope = float(np.polyfit(late[:, 0], late[:, 1], 1)[0]) if len(late) >= 3 else float("nan")
+    frames = frames1 - frames0
+    return {
+        "daemon_cpu_fraction": round((c1 - c0) / wall, 4),
+        "daemon_rss_growth_mb_per_h": round(slope * 3600.0, 2),
+        "daemon_rss_mb": round(float(s[-1, 1]), 1),
+        "daemon_frames_per_s": round(frames / wall, 1),
+        "daemon_cpu_us_per_frame": round((c1 - c0) / max(frames, 1) * 1e6, 2),
+        "daemon_bench_seconds": round(wall, 1),
+    }
+
+
+def run(quick: bool) -> dict:
+    return measure(20.0 if quick else 180.0)
