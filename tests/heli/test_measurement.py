@@ -105,9 +105,23 @@ def test_batch_evaluation_equals_row_by_row_loop():
         np.testing.assert_allclose(one.meas[0], batch.meas[i], rtol=1e-12, atol=1e-10)
 
 
-def test_measured_rotor_speed_overrides_the_nominal_one():
+def test_baseline_ignores_the_measured_rotor_speed():
+    # Table 5.1 treats Omega as a constant; a tachometer reading must not leak into the
+    # baseline (it would absorb a governor droop the discrepancy workflow should find)
     model = load_spec("table51")
     tr = trim(model)
+    a = model.evaluate(tr.x, tr.u, env={"rotor_speed_rad_s": 163.3})
+    b = model.evaluate(tr.x, tr.u, env={"rotor_speed_rad_s": 150.0})
+    np.testing.assert_allclose(b.meas, a.meas, rtol=0, atol=1e-12)
+    assert b.rotor_speed_rad_s[0] == model["main_rotor"].parameters()["nominal_speed_rad_s"]
+
+
+def test_rotor_droop_effect_uses_the_measured_rotor_speed():
+    # the catalogue effect that brings the tachometer back (by name, as a spec would)
+    from airwake.heli.effects.base import effect_class
+
+    model = load_spec("table51") + effect_class("rotor_droop")()
+    tr = trim(load_spec("table51"))
     a = model.evaluate(tr.x, tr.u, env={"rotor_speed_rad_s": 163.3})
     b = model.evaluate(tr.x, tr.u, env={"rotor_speed_rad_s": 150.0})
     assert b.thrust_n[0] < a.thrust_n[0] * 0.9

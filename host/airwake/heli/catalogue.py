@@ -20,6 +20,9 @@ def _fmt(v: float) -> str:
 
 
 def render_markdown() -> str:
+    from airwake.heli.effects.base import load_catalogue
+
+    load_catalogue()  # the discrepancy catalogue's effects are documented here too
     out = [PREAMBLE]
     for name in registered_effects():
         if effect_source(name) is not None:

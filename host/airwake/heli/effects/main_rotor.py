@@ -62,7 +62,8 @@ class MainRotor(Effect):
     PARAMETERS = (
         Parameter("radius_m", 0.673, "m", (0.2, 1.5), "Table 5.1 (R)", fixed=True),
         Parameter("nominal_speed_rad_s", 163.3, "rad/s", (50.0, 400.0), "Table 5.1 (Omega)",
-                  fixed=True, doc="used when the flight table has no measured rotor speed"),
+                  fixed=True, doc="constant rotor speed Omega*; a measured speed is used only "
+                  "by the rotor_droop effect"),
         Parameter("blade_count", 2.0, "-", (2.0, 6.0), "T-Rex 600E", fixed=True,
                   choices=(2.0, 3.0, 4.0, 5.0, 6.0)),
         Parameter("chord_m", 0.054, "m", (0.01, 0.2), "Table 5.1 (c)", fixed=True,
@@ -111,8 +112,9 @@ class MainRotor(Effect):
 
     @kernel
     def rotor_speed(q, p, s, ds, load, scratch):
-        meas = q[Q.rotor_speed_meas_rad_s]
-        q[Q.rotor_speed_rad_s] = meas if math.isfinite(meas) else p.nominal_speed_rad_s
+        # The reference treats Omega as a constant (Table 5.1): the measured rotor speed
+        # enters only through the `rotor_droop` catalogue effect (airwake.discrepancy).
+        q[Q.rotor_speed_rad_s] = p.nominal_speed_rad_s
 
     @kernel
     def rotor_setup(q, p, s, ds, load, scratch):
