@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from airwake.tracking.losa import WIRE_PIXELS, LosaGeometry, triangulate
+from airwake.tracking.losa import WIRE_PIXELS, LosaGeometry, triangulate, triangulate_one
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -71,3 +71,18 @@ def test_noisy_peaks_give_seed_like_accuracy_at_two_metres():
     pos, ok = triangulate(peak + rng.normal(0, 0.05, peak.shape), slot, valid)
     err = np.linalg.norm(pos - p, axis=-1)
     assert ok.all() and np.sqrt(np.mean(err**2)) < 5e-3
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(-1.2, 1.2), st.floats(-1.2, 1.2), st.floats(1.5, 5.5),
+       st.lists(st.booleans(), min_size=4, max_size=4), st.floats(-0.3, 0.3))
+def test_scalar_triangulation_agrees_with_the_vectorised_one(x, y, z, keep, noise_px):
+    # the marker loop uses the plain-Python path; it must be the same least squares
+    peak, slot, valid = wire_peaks(np.array([[x, y, z]]))
+    peak = peak + noise_px * np.array([1.0, -0.5, 0.25, 0.75])
+    valid = valid & np.array(keep)
+    pos, ok = triangulate(peak, slot, valid)
+    one = triangulate_one(peak[0], slot[0], valid[0])
+    assert (one is not None) == bool(ok[0])
+    if one is not None:
+        np.testing.assert_allclose(one, pos[0], rtol=1e-9, atol=1e-9)

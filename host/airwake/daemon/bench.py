@@ -7,8 +7,10 @@ pilot inputs; ~1,500 frames/s, ~85 kB/s over three ptys) run in one process, the
 (utime + stime from /proc) and RSS are sampled once a second:
 
 - `daemon_cpu_fraction`: CPU seconds per wall second over the run after a 5 s warm-up;
-- `daemon_rss_growth_mb_per_h`: least-squares slope of RSS over the samples after 20 s
-  (allocator and caches warm), times 3600 — an extrapolation from `duration` seconds;
+- `daemon_rss_growth_mb_per_h`: least-squares slope of RSS over the samples after 60 s
+  (allocator and caches warm: RSS rises ~70 MB in the first seconds, then < 0.5 MB
+  in the next minute), times 3600 — an extrapolation from a 4 min run (quick: 20 s,
+  slope after 10 s, dominated by warm-up);
   segments rotate every 30 s during the run so the writer's per-segment index is
   exercised (it is freed at each rotation);
 - `daemon_rss_mb`, `daemon_frames_per_s`, `daemon_cpu_us_per_frame` for context.
@@ -42,7 +44,8 @@ def _rss_mb(pid: int) -> float:
     return float("nan")
 
 
-def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 20.0) -> dict:
+def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
+            poll_ms: float = 5.0) -> dict:
     with tempfile.TemporaryDirectory(prefix="airwake-bench-") as tmp:
         run = Path(tmp)
         boards = subprocess.Popen([sys.executable, "-m", "airwake.daemon.fake_boards", str(run),
@@ -57,6 +60,7 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 20.0)
             status = run / "status.json"
             cmd = [sys.executable, "-m", "airwake.cli", "daemon", "--out", str(run / "rec"),
                    "--quiet", "--status-json", str(status), "--segment-s", "30",
+                   "--poll-ms", str(poll_ms),
                    "--duration", str(duration_s + warmup_s + 5)]
             for role in ("losa", "marker", "base"):
                 cmd += ["--port", f"{role}={run / role}"]
@@ -109,4 +113,6 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 20.0)
 
 
 def run(quick: bool) -> dict:
-    return measure(20.0 if quick else 180.0)
+    if quick:
+        return measure(20.0, rss_after_s=10.0)
+    return measure(240.0)

@@ -8,17 +8,17 @@ Per `marker_command` (60 Hz, the protocol's host rate):
   frames received since the previous command while the marker reported LED i lit (its
   latest `marker_attitude.active_led`), 0 = not seen;
 - `full_scale_counts`: the tracker's ADC full scale (12 bit: 4095);
-- `pos_tracker_m`, `pos_valid`: the LOSA triangulation (`tracking.losa.triangulate`) of
+- `pos_tracker_m`, `pos_valid`: the LOSA triangulation (`tracking.losa.triangulate_one`) of
   the newest peaks frame, valid when at least three sensors had a valid peak and the
   frame is younger than `max_age_s`.
 """
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
 from airwake.link.messages import LosaPeaks, MarkerAttitude, MarkerCommand
-from airwake.tracking.losa import ADC_FULL_SCALE_COUNTS, SENSOR_FLAG_VALID, triangulate
+from airwake.tracking.losa import ADC_FULL_SCALE_COUNTS, SENSOR_FLAG_VALID, triangulate_one
 
 N_LEDS = 4
 NO_LED = 255
@@ -35,7 +35,7 @@ class MarkerLoop:
         self.active_led = NO_LED
         self.led_peak = [0] * N_LEDS
         self.peaks: LosaPeaks | None = None
-        self.peaks_time_s = -np.inf
+        self.peaks_time_s = -math.inf
         self.next_s = 0.0
         self.sent = 0
         self.last_command: MarkerCommand | None = None
@@ -66,10 +66,10 @@ class MarkerLoop:
         pos, valid = (0.0, 0.0, 0.0), 0
         if self.peaks is not None and now_s - self.peaks_time_s <= self.max_age_s:
             m = self.peaks
-            ok = np.array([(f & SENSOR_FLAG_VALID) != 0 for f in m.sensor_flags])
-            p, good = triangulate(np.array(m.peak_px), np.array(m.slot), ok)
-            if good:
-                pos, valid = tuple(float(v) for v in p), 1
+            p = triangulate_one(m.peak_px, m.slot,
+                                [(f & SENSOR_FLAG_VALID) != 0 for f in m.sensor_flags])
+            if p is not None:
+                pos, valid = p, 1
         cmd = MarkerCommand(led_peak_counts=tuple(min(v, 0xFFFF) for v in self.led_peak),
                             full_scale_counts=self.full_scale_counts, pos_tracker_m=pos,
                             pos_valid=valid)

@@ -81,6 +81,66 @@ class LosaGeometry:
 DEFAULT_GEOMETRY = LosaGeometry()
 
 
+def triangulate_one(peak_px, slot, valid, geometry: LosaGeometry = DEFAULT_GEOMETRY,
+                    min_det_ratio: float = 1e-9) -> tuple[float, float, float] | None:
+    """One frame, plain Python (the marker loop's 60 Hz path; numpy's per-call overhead
+    on 3-vectors is ~100x the arithmetic). Same planes and least squares as `triangulate`:
+    with d = slot point - image point = (s_u - u_img) u + h n and w = n x u,
+    the plane normal is d x w = (s_u - u_img) n - h u. Returns None when fewer than
+    MIN_SENSORS peaks are valid or det(N^T N) < min_det_ratio * (trace / 3)^3."""
+    b = geometry.baseline_m / 2
+    h = geometry.focal_height_m
+    centre_px = (geometry.n_pixels - 1) / 2.0
+    a = [[0.0] * 3 for _ in range(3)]
+    r = [0.0, 0.0, 0.0]
+    used = 0
+    for m in range(N_MODULES):
+        if not valid[m]:
+            continue
+        px = float(peak_px[m])
+        if px != px:  # NaN
+            continue
+        s = float(slot[m])
+        u_img = (px - WIRE_PIXELS * s - centre_px) * geometry.pixel_pitch_m
+        s_u = -s * geometry.slot_spacing_m
+        k = s_u - u_img
+        norm = (k * k + h * h) ** 0.5
+        # modules 0, 1: u = +x at (-+b, 0, 0); modules 2, 3: u = +y at (0, -+b, 0); n = +z
+        if m < 2:
+            nx, ny, nz = -h / norm, 0.0, k / norm
+            cx, cy = (-b if m == 0 else b), 0.0
+            px_, py_, pz_ = cx + s_u, cy, h
+        else:
+            nx, ny, nz = 0.0, -h / norm, k / norm
+            cx, cy = 0.0, (-b if m == 2 else b)
+            px_, py_, pz_ = cx, cy + s_u, h
+        d = nx * px_ + ny * py_ + nz * pz_
+        nv = (nx, ny, nz)
+        for i in range(3):
+            r[i] += nv[i] * d
+            for j in range(3):
+                a[i][j] += nv[i] * nv[j]
+        used += 1
+    if used < MIN_SENSORS:
+        return None
+    det = (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+           - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+           + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+    trace = a[0][0] + a[1][1] + a[2][2]
+    if det <= min_det_ratio * (trace / 3.0) ** 3:
+        return None
+    # Cramer's rule
+    out = []
+    for col in range(3):
+        m3 = [row[:] for row in a]
+        for i in range(3):
+            m3[i][col] = r[i]
+        out.append((m3[0][0] * (m3[1][1] * m3[2][2] - m3[1][2] * m3[2][1])
+                    - m3[0][1] * (m3[1][0] * m3[2][2] - m3[1][2] * m3[2][0])
+                    + m3[0][2] * (m3[1][0] * m3[2][1] - m3[1][1] * m3[2][0])) / det)
+    return out[0], out[1], out[2]
+
+
 def triangulate(peak_px: np.ndarray, slot: np.ndarray, valid: np.ndarray,
                 geometry: LosaGeometry = DEFAULT_GEOMETRY,
                 max_condition: float = 1e6) -> tuple[np.ndarray, np.ndarray]:
