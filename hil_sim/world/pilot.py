@@ -32,7 +32,7 @@ no steady offset. Weights: `PilotGains`.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -382,6 +382,8 @@ class Pilot:
         self.knots_u = np.empty((k + 2, 4))
         self.knots_u[:2] = trim.u
         self.filled = 1  # knots_u[: filled + 1] are decided
+        self._knots_list = self.knots_t.tolist()
+        self._cursor = 0
         self.integral = np.zeros(4)
         self.saturated = 0
 
@@ -414,16 +416,17 @@ class Pilot:
 
     def command(self, t_s: float) -> np.ndarray:
         """First-order hold between decided knots (trim before the first knot; the last
-        decided value held beyond)."""
-        kt = self.knots_t
-        i = int(np.searchsorted(kt, t_s, side="right")) - 1
-        if i < 0:
-            return self.knots_u[0]
+        decided value held beyond). Cheapest for increasing times (a moving cursor)."""
+        kt = self._knots_list
+        i = self._cursor
+        while i + 1 < len(kt) and kt[i + 1] <= t_s:
+            i += 1
+        while i > 0 and kt[i] > t_s:
+            i -= 1
+        self._cursor = i
+        if t_s < kt[0]:
+            return self.knots_u[0].copy()
         if i >= self.filled:
-            return self.knots_u[self.filled]
+            return self.knots_u[self.filled].copy()
         f = (t_s - kt[i]) / (kt[i + 1] - kt[i])
         return self.knots_u[i] + f * (self.knots_u[i + 1] - self.knots_u[i])
-
-
-def sequence_from(values: Sequence[float] | np.ndarray, n: int) -> np.ndarray:
-    return np.broadcast_to(np.asarray(values, dtype=float), (n,))

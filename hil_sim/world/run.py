@@ -170,32 +170,73 @@ class SimResult:
 class TruthStepper:
     """Fixed-step classical RK4 of one truth state, inputs/wind/height held over the step.
 
-        xdot, meas, omega = stepper.evaluate(x, u, w, h)   # the first stage, full context
-        x_next = stepper.step(x, u, w, h, dt, xdot)         # the other three stages
+        x_next = stepper.step(x, u, w, h, dt)
+        xdot, meas, omega = stepper.evaluate(x, u, w, h)
 
     x (S,), u (4,), w (6,) eq 5.3 hub wind, h the hub height above ground/deck (m).
     `meas` (6,) is the model's measurement (specific force at the CG, angular
-    accelerations) and `omega` the rotor speed it used, both at (x, u)."""
+    accelerations) and `omega` the rotor speed it used, at (x, u). For a model made only
+    of compiled kernel effects (the host's and the hidden ones) a step is one call of the
+    composition's compiled RK4 (`model.compiled.fns.rk4_rows`); otherwise four numpy
+    evaluations."""
 
     def __init__(self, model) -> None:
         self.model = model
+        self._fast = bool(getattr(model, "is_compiled", False))
+        if self._fast:
+            self._rk4 = model.compiled.fns.rk4_rows
+            self._x = np.empty((1, model.n_states))
+            self._u = np.empty((1, 4))
+            self._w = np.empty((1, 6))
+            self._h = np.empty(1)
+            self._om = np.full(1, np.nan)
+            self._p = np.ascontiguousarray(model.parameter_vector()[None, :])
+            self._out = np.empty((1, model.n_states))
 
     def evaluate(self, x, u, w, h):
-        ctx = self.model.evaluate(x[None], u[None], w[None], {"height_agl_m": np.array([h])})
-        omega = getattr(ctx, "rotor_speed_rad_s", None)
-        return ctx.xdot[0], ctx.meas[0], 0.0 if omega is None else float(omega[0])
+        xdot, meas = self.model.rates_and_measurement(x[None], u[None], w[None],
+                                                      {"height_agl_m": np.array([h])})
+        return xdot[0], meas[0], rotor_speed_of(self.model, x[None])[0]
 
     def derivatives(self, x, u, w, h):
         return self.model.derivatives(x[None], u[None], w[None],
                                       {"height_agl_m": np.array([h])})[0]
 
-    def step(self, x, u, w, h, dt, k1=None):
-        if k1 is None:
-            k1 = self.derivatives(x, u, w, h)
+    def step(self, x, u, w, h, dt):
+        if self._fast:
+            self._x[0] = x
+            self._u[0] = u
+            self._w[0] = w
+            self._h[0] = h
+            self._rk4(1, self._x, 1, self._u, 1, self._w, 1, self._h, 1, self._om, 1,
+                      self._p, 1, dt, self._out)
+            return self._out[0].copy()
+        k1 = self.derivatives(x, u, w, h)
         k2 = self.derivatives(x + 0.5 * dt * k1, u, w, h)
         k3 = self.derivatives(x + 0.5 * dt * k2, u, w, h)
         k4 = self.derivatives(x + dt * k3, u, w, h)
         return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def rotor_speed_of(model, xs: np.ndarray) -> np.ndarray:
+    """(N,) rotor speed the truth model flies at states xs (N, S): the governor's state
+    when the droop effect is on, else the main rotor's nominal speed (no measured speed
+    is fed to the truth)."""
+    if "hil_rotor_governor" in model:
+        return xs[:, model.state_slice("hil_rotor_governor").start].copy()
+    if "main_rotor" not in model:
+        return np.zeros(xs.shape[0])
+    nominal = model["main_rotor"].parameters()["nominal_speed_rad_s"]
+    return np.full(xs.shape[0], float(nominal))
+
+
+def batch_measurement(model, xs, us, ws, hs, chunk: int = 20000) -> np.ndarray:
+    """The model's measurement (N, 6) at every recorded step, in batched calls."""
+    out = np.empty((xs.shape[0], 6))
+    for a in range(0, xs.shape[0], chunk):
+        sl = slice(a, a + chunk)
+        out[sl] = model.measure(xs[sl], us[sl], ws[sl], {"height_agl_m": hs[sl]})
+    return out
 
 
 def _height_function(scenario: Scenario, ship: Ship | None):
@@ -213,7 +254,7 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     `rate_hz` overrides the integration rate (tests of the integrator only); `sensors=
     False` skips the devices (truth only). `progress`: an `airwake.progress.Progress`-like
     object (update(done_s), finish()) or None."""
-    from hil_sim.world.wind import HeldLocalWind, build_wind_field
+    from hil_sim.world.wind import build_wind_field
 
     seed = scenario.seed if seed is None else int(seed)
     duration = scenario.duration_s if duration_s is None else float(duration_s)
@@ -231,7 +272,6 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     model = truth.model
     ship = Ship(scenario.ship) if scenario.ship is not None else None
     field_ = build_wind_field(scenario.wind, rng=rngs["wind"], ship=ship)
-    held = HeldLocalWind(field_, rate_hz=scenario.wind_rate_hz)
     frame = PlanFrame(scenario.pilot.frame, ship)
     height_of = _height_function(scenario, ship)
     hub_off = truth.hub_offset_body_m
@@ -277,37 +317,51 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     n = steps + 1
     s_dim = model.n_states
     xs = np.empty((n, s_dim))
-    meas = np.empty((n, 6))
-    omega = np.empty(n)
     cmds = np.empty((n, 4))
+    used = np.empty((n, 4))
     winds = np.empty((n, 6))
     heights = np.empty(n)
     knot = 0
     n_knots = knots.size
     stepper = TruthStepper(model)
     report_every = max(1, int(rate))
+    hub_x, hub_y, hub_z = (float(v) for v in hub_off)
+    w = np.zeros(6)
+    held_next = -np.inf
+    wind_dt = 1.0 / scenario.wind_rate_hz
+    static_wind = scenario.wind.get("type") == "still_air"
     for i in range(n):
         t = i * dt
-        roll, pitch, yaw = x[b + 6], x[b + 7], x[b + 8]
-        rot = euler_to_dcm(np.array([roll, pitch, yaw]))
-        while knot < n_knots - 1 and knots[knot] <= t + 1e-9:
-            p_frame = frame.from_ned(knots[knot], x[b:b + 3][None])[0]
-            v_ref_body = rot.T @ ref_vel_ned[knot]
-            pilot.update(knot, x, p_frame, v_ref_body, yaw - frame.heading_rad)
-            knot += 1
-        u = pilot.command(t - delay)
-        hub = x[b:b + 3] + rot @ hub_off
-        quat = euler_to_quat(np.array([roll, pitch, yaw]))
-        w = held(t, hub, quat)
-        h = height_of(t, hub)
-        k1, meas[i], omega[i] = stepper.evaluate(x, u, w, h)
+        if knot < n_knots - 1 and knots[knot] <= t + 1e-9:
+            rot = euler_to_dcm(x[b + 6:b + 9])
+            while knot < n_knots - 1 and knots[knot] <= t + 1e-9:
+                p_frame = frame.from_ned(knots[knot], x[b:b + 3][None])[0]
+                v_ref_body = rot.T @ ref_vel_ned[knot]
+                pilot.update(knot, x, p_frame, v_ref_body, x[b + 8] - frame.heading_rad)
+                knot += 1
+        u = pilot.command(t - delay) if delay else pilot.command(t)
+        # hub = CG + R(attitude) r_hub; only its height is needed every step
+        sr, cr = math.sin(x[b + 6]), math.cos(x[b + 6])
+        sp, cp = math.sin(x[b + 7]), math.cos(x[b + 7])
+        hub_d = x[b + 2] - sp * hub_x + cp * sr * hub_y + cp * cr * hub_z
+        if not static_wind and t >= held_next - 1e-12:
+            rot = euler_to_dcm(x[b + 6:b + 9])
+            hub = x[b:b + 3] + rot @ hub_off
+            w = field_.local_wind(t, hub, euler_to_quat(x[b + 6:b + 9]))
+            held_next = (math.floor(t / wind_dt + 1e-9) + 1.0) * wind_dt
+        if ship is None:
+            h = -hub_d
+        else:
+            rot = euler_to_dcm(x[b + 6:b + 9])
+            h = height_of(t, x[b:b + 3] + rot @ hub_off)
         xs[i] = x
-        cmds[i] = pilot.command(t)
+        cmds[i] = u if not delay else pilot.command(t)
+        used[i] = u
         winds[i] = w
         heights[i] = h
         if i == steps:
             break
-        x = stepper.step(x, u, w, h, dt, k1)
+        x = stepper.step(x, u, w, h, dt)
         if i % 100 == 0:
             if not np.all(np.isfinite(x)) or np.max(np.abs(x[b + 9:b + 12])) > \
                     DIVERGED_RATE_RAD_S or abs(x[b + 7]) > 1.3:
@@ -315,8 +369,10 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
                     f"scenario {scenario.name!r}: the helicopter left the envelope at "
                     f"t = {t:.2f} s (rates {np.round(x[b + 9:b + 12], 2).tolist()} rad/s, "
                     f"attitude {np.round(np.degrees(x[b + 6:b + 9]), 1).tolist()} deg)")
-        if progress is not None and i % report_every == 0:
-            progress.update(t)
+            if progress is not None and i % report_every == 0:
+                progress.update(t)
+    meas = batch_measurement(model, xs, used, winds, heights)
+    omega = rotor_speed_of(model, xs)
     t_integrated = time.perf_counter()
     ts = np.arange(n) * dt
     applied = xs[:, lag_slice] if lag_slice is not None else cmds

@@ -102,8 +102,8 @@ def test_no_column_names_a_hidden_effect(flight):
     _, built = flight
     for c in built.df.columns:
         low = c.lower()
-        for word in ("ground", "lever", "servo", "droop", "governor", "recirc", "hidden",
-                     "inflow"):
+        for word in ("ground_effect", "lever", "servo_lag", "lag_", "droop", "governor",
+                     "recirc", "hidden", "inflow", "hil_"):
             assert word not in low, c
 
 

@@ -89,8 +89,8 @@ class RotorDroopConfig:
     `feedforward_torque_nm` is given; Omega_set defaults to the model's nominal speed."""
 
     enabled: bool = True
-    rotor_inertia_kg_m2: float = 0.05
-    governor_gain_nm_s: float = 0.15  # N m per rad/s of speed error
+    rotor_inertia_kg_m2: float = 0.06
+    governor_gain_nm_s: float = 0.05  # N m per rad/s of speed error
     speed_setpoint_rad_s: float | None = None
     feedforward_torque_nm: float | None = None
 

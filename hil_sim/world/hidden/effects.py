@@ -1,26 +1,29 @@
 """The model-side hidden effects (truth only; see the package docstring).
 
-Each is an `airwake.heli.Effect` (same pipeline contract as the host's effects: stage
-methods on a batched context, own parameters and states) but is not registered in the
-host's effect registry. Their formulas are written here from the literature, not taken
-from any host effect. Quantities read from the context (documented in
-`airwake.heli.context`): height_agl_m, hub_air_velocity_m_s, rotor_sense,
-advance_ratio, inflow_0/c/s, rotor_speed_rad_s, rotor_torque_nm, delta_*_rad.
+Each is an `airwake.heli.Effect` written as compiled kernel stages (`airwake.heli.kernel`:
+one row, numba), so the truth model stays one fused compiled function, but is not
+registered in the host's effect registry. Their formulas are written here from the
+literature, not taken from any host effect. Context quantities read (`airwake.heli.layout`):
+height_agl_m, hub_air_velocity_rotor_m_s, advance_ratio, inflow_0/c/s, rotor_torque_nm,
+delta_*_rad; written: inflow_0/c/s, delta_*_rad, rotor_speed_rad_s.
 """
 
 from __future__ import annotations
 
-import numpy as np
+import math
+
 from airwake.heli.effects.base import Effect, Parameter, State
+from airwake.heli.kernel import Q, kernel, kernel_function
 
 from hil_sim.world.hidden.config import HiddenConfig
 
 _INFLOW_FLOOR = 1e-3  # |lambda_0| floor in mu/lambda_0 (no division by zero at zero thrust)
 
 
+@kernel_function
 def smoothstep_down(x, x0, x1):
-    """1 for x <= x0, 0 for x >= x1, C1-smooth cubic in between (arrays)."""
-    s = np.clip((np.asarray(x, dtype=float) - x0) / (x1 - x0), 0.0, 1.0)
+    """1 for x <= x0, 0 for x >= x1, C1-smooth cubic in between (x may be +inf)."""
+    s = min(max((x - x0) / (x1 - x0), 0.0), 1.0)
     return 1.0 - s * s * (3.0 - 2.0 * s)
 
 
@@ -33,7 +36,7 @@ class GroundEffect(Effect):
     with their forward-flight correction: the wake is swept back, the factor shrinks as
         (R/4z)^2 / (1 + (mu / lambda_0)^2).
     Applied as lambda_0 <- lambda_0 (1 - k), k = strength (R/4z_e)^2 / (1 + (mu/lambda_0)^2)
-    * taper(z/R), z = hub height above ground/deck (ctx.height_agl_m), z_e = max(z,
+    * taper(z/R), z = hub height above ground/deck (height_agl_m), z_e = max(z,
     min_height_ratio R) (the formula diverges at z = R/4 and is not meant below ~R/2);
     the taper (1 below fade_start_ratio R, 0 above fade_end_ratio R, cubic between) makes
     the effect exactly zero high up, where C-B's 1-2 % tail is below its own accuracy.
@@ -48,17 +51,16 @@ class GroundEffect(Effect):
         Parameter("fade_end_ratio", 3.0, "-", (0.6, 20.0), "taper end z/R", fixed=True),
     )
 
-    def inflow(self, ctx, p) -> None:
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
         radius = p.rotor_radius_m
-        z = np.asarray(ctx.height_agl_m, dtype=float)
-        z_eff = np.maximum(np.where(np.isfinite(z), z, 1e9), p.min_height_ratio * radius)
+        z = q[Q.height_agl_m]
+        z_eff = max(z, p.min_height_ratio * radius)
         image = (radius / (4.0 * z_eff)) ** 2
-        lam0 = np.abs(ctx.inflow_0) + _INFLOW_FLOOR
-        forward = 1.0 / (1.0 + (ctx.advance_ratio / lam0) ** 2)
+        lam0 = abs(q[Q.inflow_0]) + _INFLOW_FLOOR
+        forward = 1.0 / (1.0 + (q[Q.advance_ratio] / lam0) ** 2)
         taper = smoothstep_down(z / radius, p.fade_start_ratio, p.fade_end_ratio)
-        k = p.strength * image * forward * taper
-        ctx.inflow_0 = ctx.inflow_0 * (1.0 - k)
-        ctx.hil_ground_effect_factor = k
+        q[Q.inflow_0] = q[Q.inflow_0] * (1.0 - p.strength * image * forward * taper)
 
 
 class WakeRecirculation(Effect):
@@ -88,26 +90,22 @@ class WakeRecirculation(Effect):
         Parameter("rotor_radius_m", 0.6645, "m", (0.2, 1.5), "truth main rotor R", fixed=True),
     )
 
-    def inflow(self, ctx, p) -> None:
-        z = np.asarray(ctx.height_agl_m, dtype=float)
-        height = smoothstep_down(np.where(np.isfinite(z), z, 1e9) / p.rotor_radius_m,
-                                 p.full_height_ratio, p.zero_height_ratio)
-        v_air = np.asarray(ctx.hub_air_velocity_m_s, dtype=float)
-        speed = np.hypot(v_air[:, 0], v_air[:, 1])
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
+        height = smoothstep_down(q[Q.height_agl_m] / p.rotor_radius_m, p.full_height_ratio,
+                                 p.zero_height_ratio)
+        # hub air velocity in the rotor frame; e_r(psi_d) = (-cos psi_d, sin psi_d) points
+        # downstream, as in the Pitt-Peters solve
+        vx = q[Q.hub_air_velocity_rotor_m_s]
+        vy = q[Q.hub_air_velocity_rotor_m_s + 1]
+        speed = math.sqrt(vx * vx + vy * vy)
         x2 = (speed / p.peak_airspeed_m_s) ** 2
-        airspeed = x2 * np.exp(1.0 - x2)
-        d0 = p.inflow_increase * np.abs(ctx.inflow_0) * height * airspeed
-        # Downstream azimuth in the rotor frame (body y mirrored for a clockwise rotor):
-        # e_r(psi_d) = (-cos psi_d, sin psi_d) along the in-plane air velocity.
-        sense = np.asarray(ctx.rotor_sense, dtype=float)
-        safe = np.where(speed > 1e-9, speed, 1.0)
-        cos_d = np.where(speed > 1e-9, -v_air[:, 0] / safe, 1.0)
-        sin_d = np.where(speed > 1e-9, sense * v_air[:, 1] / safe, 0.0)
-        d_up = p.gradient_fraction * d0
-        ctx.inflow_0 = ctx.inflow_0 + d0
-        ctx.inflow_c = ctx.inflow_c - d_up * cos_d
-        ctx.inflow_s = ctx.inflow_s - d_up * sin_d
-        ctx.hil_recirculation_inflow = d0
+        d0 = p.inflow_increase * abs(q[Q.inflow_0]) * height * x2 * math.exp(1.0 - x2)
+        if speed > 1e-9 and d0 != 0.0:
+            d_up = p.gradient_fraction * d0
+            q[Q.inflow_c] = q[Q.inflow_c] + d_up * vx / speed  # -d_up * cos(psi_d)
+            q[Q.inflow_s] = q[Q.inflow_s] - d_up * vy / speed  # -d_up * sin(psi_d)
+        q[Q.inflow_0] = q[Q.inflow_0] + d0
 
 
 class DynamicInflow(Effect):
@@ -123,14 +121,16 @@ class DynamicInflow(Effect):
     name = "hil_dynamic_inflow"
     PARAMETERS = (Parameter("tau_s", 0.08, "s", (0.005, 1.0), "inflow time constant"),)
     STATES = (State("lambda_0", "-", "lagged mean inflow (normalised by Omega R)"),)
+    SCRATCH = 1  # the quasi-static inflow, from the inflow stage to state_rates
 
-    def inflow(self, ctx, p) -> None:
-        ctx.hil_inflow_quasi_static = ctx.inflow_0
-        ctx.inflow_0 = ctx.state(self.name)[:, 0].copy()
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
+        scratch[0] = q[Q.inflow_0]
+        q[Q.inflow_0] = s[0]
 
-    def state_rates(self, ctx, p) -> None:
-        lam = ctx.state(self.name)[:, 0]
-        ctx.set_rates(self.name, ((ctx.hil_inflow_quasi_static - lam) / p.tau_s)[:, None])
+    @kernel
+    def state_rates(q, p, s, ds, load, scratch):
+        ds[0] = (scratch[0] - s[0]) / p.tau_s
 
 
 class ServoLag(Effect):
@@ -153,29 +153,31 @@ class ServoLag(Effect):
         State("lon_rad", "rad", "actual longitudinal cyclic"),
         State("ped_rad", "rad", "actual tail pitch"),
     )
+    SCRATCH = 4  # the commands, from the inputs stage to state_rates
 
-    def inputs(self, ctx, p) -> None:
-        ctx.hil_servo_command = np.column_stack(
-            [ctx.delta_col_rad, ctx.delta_lat_rad, ctx.delta_lon_rad, ctx.delta_ped_rad])
-        st = ctx.state(self.name)
-        ctx.delta_col_rad = st[:, 0]
-        ctx.delta_lat_rad = st[:, 1]
-        ctx.delta_lon_rad = st[:, 2]
-        ctx.delta_ped_rad = st[:, 3]
+    @kernel
+    def inputs(q, p, s, ds, load, scratch):
+        scratch[0] = q[Q.delta_col_rad]
+        scratch[1] = q[Q.delta_lat_rad]
+        scratch[2] = q[Q.delta_lon_rad]
+        scratch[3] = q[Q.delta_ped_rad]
+        q[Q.delta_col_rad] = s[0]
+        q[Q.delta_lat_rad] = s[1]
+        q[Q.delta_lon_rad] = s[2]
+        q[Q.delta_ped_rad] = s[3]
 
-    def state_rates(self, ctx, p) -> None:
-        st = ctx.state(self.name)
-        swash = np.asarray(p.tau_swash_s, dtype=float)
-        tail = np.asarray(p.tau_tail_s, dtype=float)
-        tau = np.stack(np.broadcast_arrays(swash, swash, swash, tail), -1)
-        ctx.set_rates(self.name, (ctx.hil_servo_command - st) / tau)
+    @kernel
+    def state_rates(q, p, s, ds, load, scratch):
+        for j in range(3):
+            ds[j] = (scratch[j] - s[j]) / p.tau_swash_s
+        ds[3] = (scratch[3] - s[3]) / p.tau_tail_s
 
 
 class RotorGovernor(Effect):
     """Rotor speed from a finite-gain governor and the drivetrain inertia (rotor_speed stage).
 
         I_R dOmega/dt = Q_engine - Q_rotor,   Q_engine = max(0, Q_ff + K (Omega_set - Omega))
-    Q_rotor = ctx.rotor_torque_nm (the rotor's aerodynamic torque). A proportional governor
+    Q_rotor = rotor_torque_nm (the rotor's aerodynamic torque). A proportional governor
     leaves a steady droop (Q_rotor - Q_ff)/K: more collective, more torque, lower speed,
     with the time constant I_R / K. Overrides whatever rotor speed the main rotor chose
     (measured or nominal). The body's yaw reaction stays the main rotor's hub torque.
@@ -183,22 +185,22 @@ class RotorGovernor(Effect):
 
     name = "hil_rotor_governor"
     PARAMETERS = (
-        Parameter("rotor_inertia_kg_m2", 0.05, "kg m^2", (0.005, 1.0), "rotor + drivetrain"),
-        Parameter("governor_gain_nm_s", 0.15, "N m s/rad", (0.005, 10.0), "K"),
+        Parameter("rotor_inertia_kg_m2", 0.06, "kg m^2", (0.005, 1.0), "rotor + drivetrain"),
+        Parameter("governor_gain_nm_s", 0.05, "N m s/rad", (0.005, 10.0), "K"),
         Parameter("speed_setpoint_rad_s", 163.3, "rad/s", (50.0, 400.0), "Omega_set"),
         Parameter("feedforward_torque_nm", 2.25, "N m", (0.0, 50.0), "Q_ff (trimmed)"),
     )
     STATES = (State("omega_rad_s", "rad/s", "main-rotor speed"),)
 
-    def rotor_speed(self, ctx, p) -> None:
-        ctx.rotor_speed_rad_s = ctx.state(self.name)[:, 0].copy()
+    @kernel
+    def rotor_speed(q, p, s, ds, load, scratch):
+        q[Q.rotor_speed_rad_s] = s[0]
 
-    def state_rates(self, ctx, p) -> None:
-        omega = ctx.state(self.name)[:, 0]
-        engine = np.maximum(
-            p.feedforward_torque_nm + p.governor_gain_nm_s * (p.speed_setpoint_rad_s - omega), 0.0)
-        ctx.set_rates(self.name,
-                      ((engine - ctx.rotor_torque_nm) / p.rotor_inertia_kg_m2)[:, None])
+    @kernel
+    def state_rates(q, p, s, ds, load, scratch):
+        engine = max(p.feedforward_torque_nm
+                     + p.governor_gain_nm_s * (p.speed_setpoint_rad_s - s[0]), 0.0)
+        ds[0] = (engine - q[Q.rotor_torque_nm]) / p.rotor_inertia_kg_m2
 
 
 def build_hidden_effects(hidden: HiddenConfig, *, rotor_radius_m: float,
