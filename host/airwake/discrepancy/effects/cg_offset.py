@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.discrepancy.effects._util import cross, inertia, vec3
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, cross, kernel
 
 
 @register_effect("cg_offset")
@@ -16,8 +14,9 @@ class CgOffset(Effect):
         M_true = M_ref - r x F_aero          (gravity acts at the true CG: no moment)
     and the specific force is F_aero / (M + dM). Applied to the measurement (the rigid
     body's sensed force F = M a_meas): acc <- acc M/(M + dM); omega_dot <- omega_dot
-    - I^-1 (r x F). Signature: pitch/roll residuals proportional to thrust (a hover
-    trim shift) and az residual proportional to the specific force (mass)."""
+    + I^-1 (-r x F) (eq 5.2's inertia with I_xz). Signature: pitch/roll residuals
+    proportional to the rotor force (a hover trim shift) and az residual proportional to
+    the specific force (mass). r = 0, dM = 0 switch it off."""
 
     PARAMETERS = (
         Parameter("x_m", 0.0, "m", (-0.3, 0.3), "fitted", doc="true CG ahead of the model's"),
@@ -28,15 +27,19 @@ class CgOffset(Effect):
     )
     REQUIRES = ("rigid_body",)
 
-    def measurement(self, ctx, p) -> None:
-        mass = np.asarray(ctx.mass_kg, float)
-        meas = np.array(ctx.meas, dtype=float)
-        force = meas[:, 0:3] * np.reshape(mass, (-1, 1))
-        dm = -cross(vec3(p.x_m, p.y_m, p.z_m), force)
-        ixx, iyy, izz, ixz = inertia(ctx)
+    @kernel
+    def measurement(q, p, s, ds, load, scratch):
+        mass = q[Q.mass_kg]
+        fx, fy, fz = q[Q.meas] * mass, q[Q.meas + 1] * mass, q[Q.meas + 2] * mass
+        mx, my, mz = cross(p.x_m, p.y_m, p.z_m, fx, fy, fz)
+        mx, my, mz = -mx, -my, -mz
+        ixx, iyy, izz, ixz = (q[Q.inertia], q[Q.inertia + 1], q[Q.inertia + 2],
+                              q[Q.inertia + 3])
         det = ixx * izz - ixz * ixz
-        meas[:, 3] += (izz * dm[:, 0] + ixz * dm[:, 2]) / det  # eq 5.2's I_xz coupling
-        meas[:, 4] += dm[:, 1] / iyy
-        meas[:, 5] += (ixz * dm[:, 0] + ixx * dm[:, 2]) / det
-        meas[:, 0:3] = force / np.reshape(mass + p.mass_error_kg, (-1, 1))
-        ctx.meas = meas
+        q[Q.meas + 3] += (izz * mx + ixz * mz) / det
+        q[Q.meas + 4] += my / iyy
+        q[Q.meas + 5] += (ixz * mx + ixx * mz) / det
+        total = mass + p.mass_error_kg
+        q[Q.meas] = fx / total
+        q[Q.meas + 1] = fy / total
+        q[Q.meas + 2] = fz / total

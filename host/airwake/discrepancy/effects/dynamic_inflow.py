@@ -2,23 +2,22 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.discrepancy.effects._util import fetch, stash
 from airwake.heli.effects.base import Effect, Parameter, State, register_effect
+from airwake.heli.kernel import Q, kernel
 
 
 @register_effect("dynamic_inflow")
 class DynamicInflow(Effect):
     """First-order (Pitt-Peters apparent-mass) lag of the mean induced inflow:
 
-        tau d lambda / dt = lambda_qs - lambda,   tau ~ 0.85 R / (v_i) (apparent mass of
-        the air column, 8 rho R^3/3 pi, over the mass flow; ~0.05-0.15 s here)
+        tau d lambda / dt = lambda_qs - lambda,   tau ~ (apparent mass of the air column
+        8 rho R^3 / 3) / (mass flow through the disk) ~ 0.05-0.15 s for this rotor
 
     lambda_qs is the quasi-static inflow the earlier inflow-stage effects produced; the
     rotor sees the lagged lambda. A collective step meets the old, smaller inflow: thrust
     overshoots, then settles. Signature: az residual proportional to the collective
     (and thrust) *rate*, in phase with d(delta_col)/dt, decaying within tau.
+    Off = absent (tau -> 0).
     """
 
     PARAMETERS = (
@@ -26,12 +25,13 @@ class DynamicInflow(Effect):
     )
     STATES = (State("lambda_0", "-", "lagged mean inflow (/(Omega R))"),)
     REQUIRES = ("main_rotor", "pitt_peters_inflow")
+    SCRATCH = 1  # the quasi-static inflow
 
-    def inflow(self, ctx, p) -> None:
-        stash(ctx, "dynamic_inflow.qs", np.array(ctx.inflow_0, dtype=float))
-        ctx.inflow_0 = ctx.state(self.name)[:, 0].copy()
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
+        scratch[0] = q[Q.inflow_0]
+        q[Q.inflow_0] = s[0]
 
-    def state_rates(self, ctx, p) -> None:
-        lam = ctx.state(self.name)[:, 0]
-        rate = (fetch(ctx, "dynamic_inflow.qs") - lam) / np.asarray(p.tau_s, float)
-        ctx.set_rates(self.name, rate[:, None])
+    @kernel
+    def state_rates(q, p, s, ds, load, scratch):
+        ds[0] = (scratch[0] - s[0]) / p.tau_s

@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.discrepancy.effects._util import cross, vec3
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, add_load, air_velocity_at, cross, kernel
 
 
 @register_effect("fuselage_drag_error")
@@ -16,7 +14,8 @@ class FuselageDragError(Effect):
         dF = rho/6 [dC_X V_x|V_x|, dC_Y V_y|V_y|, dC_Z V_z|V_z|],   dM = r_cp x dF
     V = air velocity relative to the fuselage plus the main-rotor downwash (as eq 5.13).
     Signature: ax, ay (az) residuals proportional to airspeed squared along that axis,
-    pitch/yaw residuals proportional to the same through the centre-of-pressure offset."""
+    pitch/yaw residuals proportional to the same through the centre-of-pressure offset.
+    dC = 0 switches it off."""
 
     PARAMETERS = (
         Parameter("dcx_m2", 0.0, "m^2", (-0.5, 0.5), "fitted"),
@@ -27,13 +26,13 @@ class FuselageDragError(Effect):
     )
     REQUIRES = ("rigid_body",)
 
-    def forces(self, ctx, p) -> None:
-        v = np.array(ctx.air_velocity_at(np.zeros(3)), dtype=float)
-        wake = getattr(ctx, "rotor_wake_m_s", None)
-        if wake is not None:
-            v[:, 2] += np.asarray(wake, float)
-        dc = vec3(p.dcx_m2, p.dcy_m2, p.dcz_m2)
-        rho = np.reshape(np.asarray(ctx.air_density_kg_m3, float), (-1, 1))
-        force = rho / 6.0 * dc * v * np.abs(v)
-        r_cp = vec3(p.x_cp_m, 0.0, p.z_cp_m)
-        ctx.add_load(self.name, force, cross(np.broadcast_to(r_cp, force.shape), force))
+    @kernel
+    def forces(q, p, s, ds, load, scratch):
+        vx, vy, vz = air_velocity_at(q, 0.0, 0.0, 0.0)
+        vz += q[Q.rotor_wake_m_s]  # zero without a main rotor
+        k = q[Q.air_density_kg_m3] / 6.0
+        fx = k * p.dcx_m2 * vx * abs(vx)
+        fy = k * p.dcy_m2 * vy * abs(vy)
+        fz = k * p.dcz_m2 * vz * abs(vz)
+        mx, my, mz = cross(p.x_cp_m, 0.0, p.z_cp_m, fx, fy, fz)
+        add_load(load, fx, fy, fz, mx, my, mz)

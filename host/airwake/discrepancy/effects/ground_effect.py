@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.discrepancy.effects._util import finite_height, rotor_radius, smooth_fade
+from airwake.discrepancy.effects._util import height, rotor_radius, smooth_fade
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, kernel
 
 _LAMBDA_FLOOR = 1e-3  # |lambda_0| floor in the forward-flight correction
 
@@ -24,7 +23,7 @@ class GroundEffect(Effect):
     in-ground benefit is negligible above about one rotor diameter (z = 2R), where the
     (R/4z)^2 tail (~1.6 %) is below the formula's own accuracy. Applied after the inflow
     solve, at fixed blade pitch: thrust rises, the az residual is negative and grows as
-    (R/4z)^2 near the ground.
+    (R/4z)^2 near the ground. strength = 0 switches it off.
     """
 
     PARAMETERS = (
@@ -35,18 +34,19 @@ class GroundEffect(Effect):
         Parameter("fade_start_ratio", 2.0, "-", (0.5, 6.0), "one rotor diameter",
                   doc="z/R where the image model starts to fade out"),
         Parameter("fade_end_ratio", 3.0, "-", (0.6, 10.0), "fitted",
-                  doc="z/R above which the effect is zero"),
+                  doc="z/R above which the effect is zero (at least fade start + 0.05)"),
     )
     REQUIRES = ("main_rotor", "pitt_peters_inflow")
 
-    def inflow(self, ctx, p) -> None:
-        radius = rotor_radius(ctx)
-        z = finite_height(ctx)
-        z_e = np.maximum(z, p.min_height_ratio * radius)
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
+        radius = rotor_radius(q)
+        if radius <= 0.0:
+            return
+        z = height(q)
+        z_e = max(z, p.min_height_ratio * radius)
         image = (radius / (4.0 * z_e)) ** 2
-        lam0 = np.abs(np.asarray(ctx.inflow_0, float)) + _LAMBDA_FLOOR
-        skew = 1.0 / (1.0 + (np.asarray(ctx.advance_ratio, float) / lam0) ** 2)
-        fade = smooth_fade(z / radius, p.fade_start_ratio,
-                           np.maximum(p.fade_end_ratio, np.asarray(p.fade_start_ratio) + 0.05))
-        k = p.strength * image * skew * fade
-        ctx.inflow_0 = np.asarray(ctx.inflow_0, float) * (1.0 - k)
+        lam0 = abs(q[Q.inflow_0]) + _LAMBDA_FLOOR
+        skew = 1.0 / (1.0 + (q[Q.advance_ratio] / lam0) ** 2)
+        fade = smooth_fade(z / radius, p.fade_start_ratio, p.fade_end_ratio)
+        q[Q.inflow_0] *= 1.0 - p.strength * image * skew * fade

@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.discrepancy.effects._util import cross, vec3
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, cross, kernel
 
 
 @register_effect("imu_lever_arm")
@@ -18,7 +16,7 @@ class ImuLeverArm(Effect):
     point's velocity v_IMU = v_CG + omega x r, so the aerodynamic effects get
     v_CG = v_meas - omega x r (environment stage). Signature: ax, ay, az residuals
     proportional to the angular accelerations (and rates squared) with the lever
-    r as the coefficients, none in the angular channels.
+    r as the coefficients, none in the angular channels. r = 0 switches it off.
     """
 
     PARAMETERS = (
@@ -28,15 +26,20 @@ class ImuLeverArm(Effect):
     )
     REQUIRES = ("rigid_body",)
 
-    def environment(self, ctx, p) -> None:
-        r = vec3(p.x_m, p.y_m, p.z_m)
-        omega = np.asarray(ctx.omega_b_rad_s, float)
-        ctx.vel_b_m_s = np.asarray(ctx.vel_b_m_s, float) - cross(omega, r)
+    @kernel
+    def environment(q, p, s, ds, load, scratch):
+        wx, wy, wz = q[Q.omega_b_rad_s], q[Q.omega_b_rad_s + 1], q[Q.omega_b_rad_s + 2]
+        cx, cy, cz = cross(wx, wy, wz, p.x_m, p.y_m, p.z_m)
+        q[Q.vel_b_m_s] -= cx
+        q[Q.vel_b_m_s + 1] -= cy
+        q[Q.vel_b_m_s + 2] -= cz
 
-    def measurement(self, ctx, p) -> None:
-        r = vec3(p.x_m, p.y_m, p.z_m)
-        omega = np.asarray(ctx.omega_b_rad_s, float)
-        meas = np.array(ctx.meas, dtype=float)
-        omega_dot = meas[:, 3:6]
-        meas[:, 0:3] += cross(omega_dot, r) + cross(omega, cross(omega, r))
-        ctx.meas = meas
+    @kernel
+    def measurement(q, p, s, ds, load, scratch):
+        wx, wy, wz = q[Q.omega_b_rad_s], q[Q.omega_b_rad_s + 1], q[Q.omega_b_rad_s + 2]
+        ex, ey, ez = cross(q[Q.meas + 3], q[Q.meas + 4], q[Q.meas + 5], p.x_m, p.y_m, p.z_m)
+        vx, vy, vz = cross(wx, wy, wz, p.x_m, p.y_m, p.z_m)
+        cx, cy, cz = cross(wx, wy, wz, vx, vy, vz)
+        q[Q.meas] += ex + cx
+        q[Q.meas + 1] += ey + cy
+        q[Q.meas + 2] += ez + cz

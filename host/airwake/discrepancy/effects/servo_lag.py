@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from airwake.discrepancy.effects._util import fetch, stash
 from airwake.heli.effects.base import Effect, Parameter, State, register_effect
+from airwake.heli.kernel import Q, kernel
 
 
 @register_effect("servo_lag")
@@ -19,6 +17,7 @@ class ServoLag(Effect):
     tau_tail for the tail servo. The model downstream sees theta. For slow inputs
     theta ~ delta - tau d delta/dt: the residual is proportional to the input *rates*
     (it leads the inputs by 90 degrees at low frequency) and grows with input frequency.
+    Off = absent (tau -> 0).
     """
 
     PARAMETERS = (
@@ -33,20 +32,21 @@ class ServoLag(Effect):
         State("lon_rad", "rad", "longitudinal cyclic reached"),
         State("ped_rad", "rad", "tail blade pitch reached"),
     )
+    SCRATCH = 4  # the commands, kept from the inputs stage for state_rates
 
-    def inputs(self, ctx, p) -> None:
-        st = ctx.state(self.name)
-        cmd = np.column_stack([np.broadcast_to(np.asarray(v, float), (ctx.n,)) for v in (
-            ctx.delta_col_rad, ctx.delta_lat_rad, ctx.delta_lon_rad, ctx.delta_ped_rad)])
-        stash(ctx, "servo_lag.command", cmd)  # read back in state_rates
-        ctx.delta_col_rad = st[:, 0].copy()
-        ctx.delta_lat_rad = st[:, 1].copy()
-        ctx.delta_lon_rad = st[:, 2].copy()
-        ctx.delta_ped_rad = st[:, 3].copy()
+    @kernel
+    def inputs(q, p, s, ds, load, scratch):
+        scratch[0] = q[Q.delta_col_rad]
+        scratch[1] = q[Q.delta_lat_rad]
+        scratch[2] = q[Q.delta_lon_rad]
+        scratch[3] = q[Q.delta_ped_rad]
+        q[Q.delta_col_rad] = s[0]
+        q[Q.delta_lat_rad] = s[1]
+        q[Q.delta_lon_rad] = s[2]
+        q[Q.delta_ped_rad] = s[3]
 
-    def state_rates(self, ctx, p) -> None:
-        st = ctx.state(self.name)
-        swash = np.asarray(p.tau_swash_s, float)
-        tail = np.asarray(p.tau_tail_s, float)
-        tau = np.stack(np.broadcast_arrays(swash, swash, swash, tail), -1)
-        ctx.set_rates(self.name, (fetch(ctx, "servo_lag.command") - st) / tau)
+    @kernel
+    def state_rates(q, p, s, ds, load, scratch):
+        for j in range(3):
+            ds[j] = (scratch[j] - s[j]) / p.tau_swash_s
+        ds[3] = (scratch[3] - s[3]) / p.tau_tail_s

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
-from airwake.discrepancy.effects._util import finite_height, rotor_radius, smooth_fade
+from airwake.discrepancy.effects._util import height, rotor_radius, smooth_fade
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.kernel import Q, kernel
 
 
 @register_effect("wake_recirculation")
@@ -22,8 +23,9 @@ class WakeRecirculation(Effect):
                when the airspeed V equals the wall-jet speed ~ hover induced velocity,
                blown away at higher speed,
     V the in-plane air speed at the hub, u_up the unit in-plane vector toward the oncoming
-    air (rotor frame). Distinct from ground effect: a thrust *loss* (az residual > 0),
-    zero in hover, peaked in airspeed; the gradient tilts the disk (pitch/roll residuals).
+    air, e_r(psi) = (-cos psi, sin psi) the blade's radial direction (rotor frame). Distinct
+    from ground effect: a thrust *loss* (az residual > 0), zero in hover, peaked in
+    airspeed; the gradient tilts the disk (pitch/roll residuals). A = 0 switches it off.
     """
 
     PARAMETERS = (
@@ -34,31 +36,28 @@ class WakeRecirculation(Effect):
         Parameter("full_height_ratio", 1.0, "-", (0.1, 4.0), "fitted",
                   doc="z/R below which the recirculation is fully developed"),
         Parameter("zero_height_ratio", 2.5, "-", (0.2, 8.0), "fitted",
-                  doc="z/R above which there is none"),
+                  doc="z/R above which there is none (at least full + 0.05)"),
         Parameter("gradient_fraction", 0.5, "-", (-1.0, 3.0), "fitted",
                   doc="g: upstream-edge share of the inflow rise"),
     )
     REQUIRES = ("main_rotor", "pitt_peters_inflow")
 
-    def inflow(self, ctx, p) -> None:
-        radius = rotor_radius(ctx)
-        zr = finite_height(ctx) / radius
-        top = np.maximum(p.zero_height_ratio, np.asarray(p.full_height_ratio) + 0.05)
-        h = smooth_fade(zr, p.full_height_ratio, top)
-        v_air = np.asarray(ctx.hub_air_velocity_m_s, float)
-        speed = np.hypot(v_air[:, 0], v_air[:, 1])
+    @kernel
+    def inflow(q, p, s, ds, load, scratch):
+        radius = rotor_radius(q)
+        if radius <= 0.0:
+            return
+        h = smooth_fade(height(q) / radius, p.full_height_ratio, p.zero_height_ratio)
+        vx, vy = q[Q.hub_air_velocity_m_s], q[Q.hub_air_velocity_m_s + 1]
+        speed = math.hypot(vx, vy)
         x2 = (speed / p.peak_airspeed_m_s) ** 2
-        g = x2 * np.exp(1.0 - x2)
-        lam0 = np.asarray(ctx.inflow_0, float)
-        d0 = p.inflow_increase * np.abs(lam0) * h * g
-        # rotor frame (y mirrored for a clockwise rotor): u_up = -v_air_in_plane / |v|
-        sense = np.asarray(ctx.rotor_sense, float)
-        moving = speed > 1e-9
-        safe = np.where(moving, speed, 1.0)
-        up_x = np.where(moving, -v_air[:, 0] / safe, 0.0)
-        up_y = np.where(moving, -sense * v_air[:, 1] / safe, 0.0)
-        # e_r(psi) = (-cos psi, sin psi): e_r . u_up = -up_x cos psi + up_y sin psi
-        grad = p.gradient_fraction * d0
-        ctx.inflow_0 = lam0 + d0
-        ctx.inflow_c = np.asarray(ctx.inflow_c, float) - grad * up_x
-        ctx.inflow_s = np.asarray(ctx.inflow_s, float) + grad * up_y
+        d0 = p.inflow_increase * abs(q[Q.inflow_0]) * h * x2 * math.exp(1.0 - x2)
+        q[Q.inflow_0] += d0
+        if speed > 1e-9:
+            # rotor frame (y mirrored for a clockwise rotor): u_up = -v_in-plane / |v|;
+            # e_r . u_up = -up_x cos psi + up_y sin psi
+            up_x = -vx / speed
+            up_y = -q[Q.rotor_sense] * vy / speed
+            grad = p.gradient_fraction * d0
+            q[Q.inflow_c] -= grad * up_x
+            q[Q.inflow_s] += grad * up_y
