@@ -22,6 +22,7 @@ import numpy as np
 from airwake.errors import AirwakeError
 from airwake.link.batch import decode_capture
 from airwake.link.clock import (
+    BACK_JUMP_US,
     BIN_US,
     CLOCK_FRAME_IDS,
     HALF_WRAP,
@@ -39,6 +40,10 @@ from airwake.record.flight_builder import (
 )
 from airwake.record.reader import Recording
 from airwake.record.rigging import PwmRigging
+
+# Mapped board times must lie in [rx - MAX_AGE_US, rx + MAX_EARLY_US] (see map_board_times).
+MAX_EARLY_US = 500_000.0
+MAX_AGE_US = 60_000_000.0
 
 
 class ExportError(AirwakeError):
@@ -109,8 +114,13 @@ def map_board_times(fi: FrameIndex, tables: dict[str, np.ndarray]) -> tuple[np.n
         d = ((fi.u32[data] - fi.u32[ref] + HALF_WRAP) % WRAP) - HALF_WRAP
         epoch[data] = epoch[ref]
         board[data] = board[ref] + d
+        # stamped more than 1 s before the clock frame received just before it: a frame of
+        # a new run whose first clock frames were lost, or a stale stamp; not a time
+        stale = data[d < -BACK_JUMP_US]
+    else:
+        stale = data
     host = np.full(n, np.nan)
-    report = {"epochs": []}
+    report: dict = {"epochs": []}
     for ep in clock.epochs:
         sel = epoch == ep.index
         ux, uz = bin_minima(board[sel], fi.rx_us[sel] - board[sel], BIN_US)
@@ -126,6 +136,13 @@ def map_board_times(fi: FrameIndex, tables: dict[str, np.ndarray]) -> tuple[np.n
             "drift_ppm": last.drift_ppm, "two_sided": all(f.two_sided for f in pw.fits),
             "bound_ms": pw.bound_us / 1000.0 if np.isfinite(pw.bound_us) else None,
             "jitter_ms": float(np.median([f.jitter_us for f in pw.fits])) / 1000.0})
+    # A mapped time after the frame was received, or long before, is not a time: a data
+    # frame of a new run that arrived before the run's first clock frame was unwrapped
+    # against the old run (or a stamp is stale, e.g. a stopped rotor's last pulse).
+    implausible = (host > fi.rx_us + MAX_EARLY_US) | (host < fi.rx_us - MAX_AGE_US)
+    implausible[stale] = True
+    report["frames_dropped_implausible_time"] = int(implausible.sum())
+    host[implausible] = np.nan
     return epoch, host, report
 
 
