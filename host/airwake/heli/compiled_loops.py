@@ -79,3 +79,128 @@ def simulate_rows(n, x0, xs, steps, dt, every, u, ut, us, w, wt, ws, hagl, ht, h
             rk4_one(xi, u[k * ut, i * us], w[k * wt, i * ws], hagl[k * ht, i * hs],
                     omm[k * ot, i * oms], params[i * ps], dt, xn, work)
             xi[:] = xn
+
+
+def foh_weights(lam, dt):
+    """exp(lam dt) and the first-order-hold input weights phi1, phi2 of one mode:
+    z(dt) = e z(0) + phi1 b(0) + phi2 (b(dt) - b(0)) solves z' = lam z + b, b linear."""
+    x = lam * dt
+    ea = np.exp(x)
+    if abs(x) < 0.1:  # series: the closed forms cancel badly for small lam dt
+        phi1 = dt * (1.0 + x * (1.0 / 2 + x * (1.0 / 6 + x * (1.0 / 24 + x * (
+            1.0 / 120 + x * (1.0 / 720 + x * (1.0 / 5040 + x / 40320)))))))
+        phi2 = dt * (1.0 / 2 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (
+            1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x / 362880)))))))
+    else:
+        em1 = ea - 1.0
+        phi1 = dt * em1 / x
+        phi2 = dt * (em1 - x) / (x * x)
+    return ea, phi1, phi2
+
+
+def hidden_rates(i, h, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0, vinv, g, b, mr, work):
+    """f_h at sample i with hidden states h: g = f_h - A0 h, b = V^-1 g; measurement mr."""
+    q, ld, sc, _m, xd = work[0], work[1], work[2], work[3], work[4]
+    m = h.shape[0]
+    xr[:] = x[i]
+    for j in range(m):
+        xr[HIDDEN[j]] = h[j]
+    row(q, xr, xd, mr, ld, sc, u[i], w[i * ws], hagl[i * hs], omm[i * oms], pk, HAS, SENSED)
+    for j in range(m):
+        acc = xd[HIDDEN[j]]
+        for l in range(m):
+            acc -= a0[j, l] * h[l]
+        g[j] = acc
+    for j in range(m):
+        acc = 0.0 + 0.0j
+        for l in range(m):
+            acc += vinv[j, l] * g[l]
+        b[j] = acc
+
+
+def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec, vinv, a0,
+                h0, scale, tol, max_iter, hout, mout, stats):
+    """Hidden states of nk parameter sets along a flight, sample by sample.
+
+    Between samples the hidden dynamics h' = A0 h + g(t) are integrated exactly in the
+    eigenbasis of A0 = V diag(lam) V^-1 with g = f_h - A0 h linear over the step (first-
+    order hold); g at the new sample depends on the new h, so each step is solved by
+    fixed-point iteration (contraction |Phi2 (J - A0)| << 1), started from g extrapolated
+    linearly. Converged when the hidden state moves less than tol * scale; the accepted
+    h is the one evaluated last (its measurement goes to mout). stats[k] = (largest
+    number of iterations, largest final relative change)."""
+    m = N_HIDDEN
+    work = work_arrays()
+    xr = np.empty(N_STATES)
+    g = np.empty(m)
+    b = np.empty(m, dtype=np.complex128)
+    bn = np.empty(m, dtype=np.complex128)
+    bprev = np.empty(m, dtype=np.complex128)
+    z = np.empty(m, dtype=np.complex128)
+    base = np.empty(m, dtype=np.complex128)
+    ea = np.empty(m, dtype=np.complex128)
+    p1 = np.empty(m, dtype=np.complex128)
+    p2 = np.empty(m, dtype=np.complex128)
+    hc = np.empty(m)
+    hn = np.empty(m)
+    mr = np.empty(6)
+    for kk in range(nk):
+        pk = params[kk * ps]
+        lk, vk, vik, ak = lam[kk], vec[kk], vinv[kk], a0[kk]
+        worst_it = 0
+        worst_change = 0.0
+        for j in range(m):
+            hc[j] = h0[kk, j]
+        hidden_rates(0, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, ak, vik, g, b, mr, work)
+        for j in range(m):
+            acc = 0.0 + 0.0j
+            for l in range(m):
+                acc += vik[j, l] * hc[l]
+            z[j] = acc
+            bprev[j] = b[j]
+            hout[kk, 0, j] = hc[j]
+        mout[kk, 0, :] = mr
+        last_dt = -1.0
+        for k in range(nt - 1):
+            dt = t[k + 1] - t[k]
+            if dt != last_dt:
+                for j in range(m):
+                    ea[j], p1[j], p2[j] = foh_weights(lk[j], dt)
+                last_dt = dt
+            for j in range(m):
+                base[j] = ea[j] * z[j] + p1[j] * b[j] - p2[j] * b[j]
+                bn[j] = 2.0 * b[j] - bprev[j]  # predictor: g extrapolated
+            change = np.inf
+            it = 0
+            while it < max_iter:
+                it += 1
+                for j in range(m):
+                    acc = 0.0
+                    for l in range(m):
+                        acc += (vk[j, l] * (base[l] + p2[l] * bn[l])).real
+                    hn[j] = acc
+                if it > 1:
+                    change = 0.0
+                    for j in range(m):
+                        d = abs(hn[j] - hc[j]) / scale[kk, j]
+                        if d > change:
+                            change = d
+                    if change < tol:
+                        break
+                for j in range(m):
+                    hc[j] = hn[j]
+                hidden_rates(k + 1, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, ak, vik, g,
+                             bn, mr, work)
+            # accept the last evaluated state hc (rates bn, measurement mr)
+            for j in range(m):
+                z[j] = base[j] + p2[j] * bn[j]
+                bprev[j] = b[j]
+                b[j] = bn[j]
+                hout[kk, k + 1, j] = hc[j]
+            mout[kk, k + 1, :] = mr
+            if it > worst_it:
+                worst_it = it
+            if change > worst_change:
+                worst_change = change
+        stats[kk, 0] = worst_it
+        stats[kk, 1] = worst_change

@@ -1,4 +1,17 @@
-"""Fixed-step RK4 integration of `HeliModel.derivatives` (batched: N trajectories at once)."""
+"""Fixed-step RK4 integration of `HeliModel.derivatives` (batched: N trajectories at once).
+
+Three ways in, fastest last:
+    rk4_step(model, x, u, dt, w, env, params)    one step, any model
+    Stepper(model, dt, env, params).step(x, u, w) one step per call with little Python
+                                                  around it (closed-loop pilots, hil_sim)
+    simulate(model, x0, duration_s, dt, inputs, wind, …)
+        inputs/wind as callables (closed loop, a Python call per step), or as arrays
+        sampled per step: then an all-kernel model integrates the whole run inside one
+        compiled loop.
+For an all-kernel model (`model.is_compiled`) the RK4 step itself is compiled (4
+evaluations in one call); a model with numpy plugins steps through `derivatives`.
+Inputs, wind and environment are held over each step (zero-order hold at its start).
+"""
 
 from __future__ import annotations
 
@@ -8,13 +21,67 @@ from dataclasses import dataclass
 import numpy as np
 
 
-def rk4_step(model, x, u, dt: float, w=None, env=None, params=None) -> np.ndarray:
-    """One classical RK4 step, inputs/wind/env held over the step. x (N,S) -> (N,S)."""
+def _rk4_numpy(model, x, u, dt, w, env, params) -> np.ndarray:
     k1 = model.derivatives(x, u, w, env, params)
     k2 = model.derivatives(x + 0.5 * dt * k1, u, w, env, params)
     k3 = model.derivatives(x + 0.5 * dt * k2, u, w, env, params)
     k4 = model.derivatives(x + dt * k3, u, w, env, params)
     return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def rk4_step(model, x, u, dt: float, w=None, env=None, params=None) -> np.ndarray:
+    """One classical RK4 step, inputs/wind/env held over the step. x (N,S) -> (N,S)."""
+    if not model.is_compiled:
+        return _rk4_numpy(model, np.atleast_2d(np.asarray(x, dtype=float)), u, dt, w, env,
+                          params)
+    a = model._rows(x, u, w, env, params)
+    out = np.empty((a.n, model.n_states))
+    model.compiled.fns.rk4_rows(a.n, a.x, a.xs, a.u, a.us, a.w, a.ws, a.h, a.hs, a.om, a.oms,
+                                a.p, a.ps, float(dt), out)
+    return out
+
+
+class Stepper:
+    """RK4 steps of a fixed model, step size, environment and parameters, with the
+    per-call Python work cut to the minimum (one compiled call per step for an all-kernel
+    model): `x = stepper.step(x, u, w)`, x (N,S) or (S,), u (N|1, 4) or (4,), w (N|1, 6),
+    (6,) or None. Returns a new array shaped like x."""
+
+    def __init__(self, model, dt: float, env=None, params=None) -> None:
+        self.model = model
+        self.dt = float(dt)
+        self.env = env
+        self.params = params
+        self._fast = model.is_compiled
+        if self._fast:
+            a = model._rows(model.zero_state(1), np.zeros(4), None, env, params)
+            self._h, self._hs = a.h, a.hs
+            self._om, self._oms = a.om, a.oms
+            self._p, self._ps = a.p, a.ps
+            self._rows_env = a.n  # rows fixed by env/params (1 when shared)
+            self._fn = model.compiled.fns.rk4_rows
+            self._nw = np.zeros((1, 6))
+
+    def step(self, x, u, w=None) -> np.ndarray:
+        if not self._fast or self._rows_env != 1:
+            out = rk4_step(self.model, x, u, self.dt, w, self.env, self.params)
+            return out.reshape(np.shape(x)) if np.ndim(x) == 1 else out
+        x2 = np.asarray(x, dtype=np.float64)
+        one = x2.ndim == 1
+        if one:
+            x2 = x2.reshape(1, -1)
+        u2 = np.asarray(u, dtype=np.float64).reshape(-1, 4)
+        w2 = self._nw if w is None else np.asarray(w, dtype=np.float64).reshape(-1, 6)
+        n = x2.shape[0]
+        if (x2.shape[1] != self.model.n_states or u2.shape[0] not in (1, n)
+                or w2.shape[0] not in (1, n) or not x2.flags.c_contiguous
+                or not u2.flags.c_contiguous or not w2.flags.c_contiguous):
+            out = rk4_step(self.model, x2, u2, self.dt, w2, self.env, self.params)
+        else:
+            out = np.empty_like(x2)
+            self._fn(n, x2, 1, u2, int(u2.shape[0] == n), w2, int(w2.shape[0] == n), self._h,
+                     self._hs, self._om, self._oms, self._p, self._ps, self.dt, out)
+        return out[0] if one else out
 
 
 @dataclass
@@ -27,22 +94,54 @@ class Trajectory:
     w: np.ndarray
 
 
+def _sampled(values, steps: int, width: int, name: str) -> np.ndarray:
+    """(width,), (T, width) or (T, N, width) -> (T, R, width), T in {1, steps, steps+1}."""
+    a = np.asarray(values, dtype=np.float64)
+    if a.ndim == 1:
+        a = a.reshape(1, 1, -1)
+    elif a.ndim == 2:
+        a = a[:, None, :]
+    if a.ndim != 3 or a.shape[2] != width:
+        raise ValueError(f"{name} must be ({width},), (T, {width}) or (T, N, {width}), "
+                         f"got shape {np.shape(values)}")
+    if a.shape[0] not in (1, steps, steps + 1):
+        raise ValueError(f"{name} has {a.shape[0]} samples; expected 1, {steps} (one per "
+                         f"step) or {steps + 1} (one per step and the end)")
+    return np.ascontiguousarray(a)
+
+
 def simulate(
     model,
     x0,
     duration_s: float,
     dt: float,
-    inputs: Callable[[float, np.ndarray], np.ndarray],
-    wind: Callable[[float], np.ndarray] | None = None,
+    inputs: Callable[[float, np.ndarray], np.ndarray] | np.ndarray,
+    wind: Callable[[float], np.ndarray] | np.ndarray | None = None,
     env=None,
     params=None,
     sample_every: int = 1,
 ) -> Trajectory:
-    """Integrate from x0 (N,S) with `inputs(t, x) -> (N,4)` (closed loop allowed) and
-    `wind(t) -> (N,6)` evaluated at the start of each step; keeps every `sample_every`-th
-    state. Python loop over time steps only (never over rows)."""
+    """Integrate from x0 (N,S) and keep every `sample_every`-th state (step 0 included).
+
+    inputs: `inputs(t, x) -> (N|1, 4)` (closed loop allowed), or an array sampled per step
+        (4,), (T, 4) or (T, N|1, 4) with T = 1, steps or steps + 1;
+    wind: None (still air), `wind(t) -> (N|1, 6)` or an array like `inputs` with 6 columns.
+    Both evaluated at the start of each step. With arrays for both and an all-kernel
+    model, the whole run is one compiled loop; otherwise one Python iteration per step
+    (never a loop over rows)."""
     x = np.atleast_2d(np.asarray(x0, dtype=float)).copy()
     steps = int(round(duration_s / dt))
+    n = x.shape[0]
+    if not callable(inputs) and (wind is None or not callable(wind)) and model.is_compiled:
+        return _simulate_compiled(model, x, steps, dt, inputs, wind, env, params,
+                                  sample_every)
+    if not callable(inputs):
+        u_arr = _sampled(inputs, steps, 4, "inputs")
+        inputs = _sample_fn(u_arr, dt)  # noqa: F811 — same contract as a callable
+    if wind is not None and not callable(wind):
+        w_arr = _sampled(wind, steps, 6, "wind")
+        wind = _sample_fn(w_arr, dt)
+    stepper = Stepper(model, dt, env, params)
     ts, xs, us, ws = [], [], [], []
     for k in range(steps + 1):
         t = k * dt
@@ -51,9 +150,46 @@ def simulate(
         if k % sample_every == 0:
             ts.append(t)
             xs.append(x.copy())
-            us.append(np.broadcast_to(u, (x.shape[0], 4)).copy())
-            ws.append(np.broadcast_to(w, (x.shape[0], 6)).copy())
+            us.append(np.broadcast_to(u, (n, 4)).copy())
+            ws.append(np.broadcast_to(w, (n, 6)).copy())
         if k == steps:
             break
-        x = rk4_step(model, x, u, dt, w, env, params)
+        x = stepper.step(x, u, w)
     return Trajectory(np.array(ts), np.array(xs), np.array(us), np.array(ws))
+
+
+def _sample_fn(arr: np.ndarray, dt: float):
+    def at(t, *_):
+        k = min(int(round(t / dt)), arr.shape[0] - 1)
+        return arr[k]
+
+    return at
+
+
+def _simulate_compiled(model, x, steps, dt, inputs, wind, env, params, every) -> Trajectory:
+    n = x.shape[0]
+    u = _sampled(inputs, steps, 4, "inputs")
+    w = np.zeros((1, 1, 6)) if wind is None else _sampled(wind, steps, 6, "wind")
+    for what, arr in (("inputs", u), ("wind", w)):
+        if arr.shape[1] not in (1, n):
+            raise ValueError(f"{what} has {arr.shape[1]} rows, x0 has {n}")
+    a = model._rows(x, u[0], w[0], env, params)
+    if a.n != n:
+        raise ValueError(f"env/params have {a.n} rows, x0 has {n}")
+    h = a.h.reshape(1, -1)
+    om = a.om.reshape(1, -1)
+    k_out = steps // every + 1
+    xout = np.empty((k_out, n, model.n_states))
+    model.compiled.fns.simulate_rows(
+        n, a.x, a.xs, steps, float(dt), int(every),
+        u, int(u.shape[0] > 1), int(u.shape[1] == n and n > 1),
+        w, int(w.shape[0] > 1), int(w.shape[1] == n and n > 1),
+        h, 0, a.hs, om, 0, a.oms, a.p, a.ps, xout,
+    )
+    idx = np.arange(k_out) * every
+    t = idx * dt
+    ui = np.minimum(idx, u.shape[0] - 1)
+    wi = np.minimum(idx, w.shape[0] - 1)
+    u_s = np.broadcast_to(u[ui], (k_out, n, 4)).copy()
+    w_s = np.broadcast_to(w[wi], (k_out, n, 6)).copy()
+    return Trajectory(t, xout, u_s, w_s)

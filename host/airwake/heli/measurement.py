@@ -9,16 +9,21 @@ running their own dynamics, forced by the measured body motion, along the flight
 
     dh/dt = f_h(h, body(t), u(t), w(t), env(t))                (hidden part of derivatives)
 
-solved for the whole time series at once by *waveform relaxation*: with A0 the Jacobian
-of f_h at a representative row (eigen-decomposed once),
-    h^{k+1} = LTI_A0[ f_h(h^k, t) - A0 h^k ],  h(t0) = quasi-steady,
-where LTI_A0 integrates dh/dt = A0 h + g(t) exactly for g linear between samples
-(first-order hold; per mode a scalar complex recursion run by scipy's lfilter, or a
-parallel prefix scan for irregular time steps). Each iteration is one vectorised model
-evaluation over all samples; it converges in a few iterations because A0 differs from the
-true Jacobian only through the slow variation of rotor speed, inflow and advance ratio.
-No quasi-steady flapping: the rotor's ~20 ms lag would otherwise show up as a false
-residual at pilot-input frequencies.
+The rotor modes are stiff next to the sampling (lag ~18 Hz at 150 Hz), so with A0 the
+Jacobian of f_h at a representative row (the flight's medians; eigen-decomposed once per
+parameter set) the linear part is integrated exactly between samples and the remainder
+g = f_h(h) - A0 h is taken linear between samples (first-order hold):
+
+    z_{k+1} = e^{lam dt} z_k + phi1 b_k + phi2 (b_{k+1} - b_k),   z = V^-1 h, b = V^-1 g.
+
+For an all-kernel model this runs as one compiled pass along the flight (each step's
+implicit b_{k+1} by fixed-point iteration from a linear extrapolation, typically 2-4
+model evaluations per sample), for any number K of parameter sets in the same call. A
+model with numpy plugins solves the same discrete equations for the whole time series
+at once by *waveform relaxation* (h^{k+1} = LTI_A0[f_h(h^k) - A0 h^k], one vectorised
+evaluation per iteration, scipy's lfilter per mode). Both start from the quasi-steady
+hidden state at the first sample. No quasi-steady flapping: the rotor's ~20 ms lag would
+otherwise show up as a false residual at pilot-input frequencies.
 """
 
 from __future__ import annotations
@@ -134,6 +139,116 @@ def _lti_solve(lam, dt, b, z0) -> np.ndarray:
     return z
 
 
+def _hidden_index(model: HeliModel) -> np.ndarray:
+    return np.array([model.state_names.index(s) for s in model.hidden_state_names], dtype=int)
+
+
+def _rates_at(model, x_row, u_row, w_row, env_row, hid, pm, hh):
+    """f_h at one body row for hidden states hh (K, r, m), parameter sets pm (K|1, P)."""
+    k, r, m = hh.shape
+    xx = np.repeat(x_row[None], k * r, 0)
+    xx[:, hid] = hh.reshape(k * r, m)
+    p = pm if pm.shape[0] == 1 else np.repeat(pm, r, axis=0)
+    out = model.derivatives(xx, u_row[None], w_row[None], env_row, p)[:, hid]
+    return out.reshape(k, r, m)
+
+
+def _jac_sets(fun, z: np.ndarray, eps: float = 1e-7) -> np.ndarray:
+    """Central-difference Jacobians (K, m, m) of fun((K, r, m)) -> (K, r, m) at z (K, m),
+    one batched call."""
+    k, m = z.shape
+    step = eps * np.maximum(1.0, np.abs(z))
+    eye = np.eye(m)[None] * step[:, None, :]
+    pts = np.concatenate([z[:, None, :], z[:, None, :] + eye, z[:, None, :] - eye], axis=1)
+    out = fun(pts)
+    d = out[:, 1 : m + 1] - out[:, m + 1 :]  # [k, j, i] = f_i(+e_j) - f_i(-e_j)
+    return np.swapaxes(d, 1, 2) / (2.0 * step[:, None, :])
+
+
+def _solve(a: np.ndarray, r: np.ndarray) -> np.ndarray:
+    return np.linalg.solve(a, r[..., None])[..., 0]
+
+
+@dataclass
+class _Linearisation:
+    """Per parameter set: reference hidden state h_ref (K,m), A0 (K,m,m) and its
+    eigen-decomposition, the quasi-steady start h0 (K,m) and a state scale (K,m)."""
+
+    h_ref: np.ndarray
+    a0: np.ndarray
+    lam: np.ndarray
+    vec: np.ndarray
+    vinv: np.ndarray
+    h0: np.ndarray
+    scale: np.ndarray
+
+
+def _linearise(model, fa: FlightArrays, w: np.ndarray, pm: np.ndarray, hid) -> _Linearisation:
+    """A0 at the representative row (flight medians, h quasi-steady there, Newton) and the
+    quasi-steady hidden state at the first sample, for K parameter sets at once."""
+    x, u, env = fa.x, fa.u, fa.env
+    k = pm.shape[0]
+    m = hid.size
+    xr, ur, wr = np.median(x, axis=0), np.median(u, axis=0), np.median(w, axis=0)
+    er = {name: np.median(v) for name, v in env.items()}
+
+    def f_ref(hh):
+        return _rates_at(model, xr, ur, wr, er, hid, pm, hh)
+
+    h = np.zeros((k, m))
+    for _ in range(6):  # quasi-steady hidden state at the reference (Newton)
+        a0 = _jac_sets(f_ref, h)
+        h = h - _solve(a0, f_ref(h[:, None, :])[:, 0])
+    a0 = _jac_sets(f_ref, h)
+    lam, vec = np.linalg.eig(a0)
+    vinv = np.linalg.inv(vec)
+    e0 = {name: v[:1] for name, v in env.items()}
+
+    def f0(hh):
+        return _rates_at(model, x[0], u[0], w[0], e0, hid, pm, hh)
+
+    h0 = h.copy()
+    for _ in range(4):  # quasi-steady start at the first sample
+        h0 = h0 - _solve(a0, f0(h0[:, None, :])[:, 0])
+    # scale of each hidden state's variation along the flight (convergence test): one
+    # Newton step from h_ref at up to 64 samples
+    pick = np.unique(np.linspace(0, x.shape[0] - 1, min(64, x.shape[0])).astype(int))
+    r = pick.size
+    xx = np.repeat(x[pick][None], k, 0).reshape(k * r, -1)
+    xx[:, hid] = np.repeat(h, r, axis=0)
+    ee = {name: v[pick] if k == 1 else np.tile(v[pick], k) for name, v in env.items()}
+    f = model.derivatives(xx, np.tile(u[pick], (k, 1)), np.tile(w[pick], (k, 1)), ee,
+                          pm if k == 1 else np.repeat(pm, r, axis=0))[:, hid].reshape(k, r, m)
+    h_qs = h[:, None, :] - np.linalg.solve(a0[:, None], f[..., None])[..., 0]
+    scale = np.maximum(np.abs(h), 1e-6) + np.std(h_qs, axis=1)
+    return _Linearisation(h, a0, lam, vec, vinv, h0, scale)
+
+
+def _reconstruct_compiled(model, fa, w, pm, tol, max_iter):
+    """(h (K, T, m), measurement (K, T, 6), iterations, change) for K parameter sets."""
+    hid = _hidden_index(model)
+    lin = _linearise(model, fa, w, pm, hid)
+    k, m = lin.h0.shape
+    nt = fa.t.size
+    if w.strides[0] == 0:  # one wind for the whole flight
+        w = w[:1]
+    a = model._rows(fa.x[:1], fa.u[:1], w, fa.env, None)
+    ws, hs, oms = int(w.shape[0] > 1), int(a.h.size > 1), int(a.om.size > 1)
+    hout = np.empty((k, nt, m))
+    mout = np.empty((k, nt, 6))
+    stats = np.zeros((k, 2))
+    model.compiled.fns.hidden_pass(
+        k, nt, np.ascontiguousarray(fa.t, dtype=float), np.ascontiguousarray(fa.x),
+        np.ascontiguousarray(fa.u), np.ascontiguousarray(w), ws, a.h, hs, a.om, oms,
+        pm, int(pm.shape[0] > 1), np.ascontiguousarray(lin.lam, dtype=complex),
+        np.ascontiguousarray(lin.vec, dtype=complex),
+        np.ascontiguousarray(lin.vinv, dtype=complex), np.ascontiguousarray(lin.a0),
+        np.ascontiguousarray(lin.h0), np.ascontiguousarray(lin.scale), float(tol),
+        max(int(max_iter), 2), hout, mout, stats,
+    )
+    return hout, mout, int(stats[:, 0].max()), float(stats[:, 1].max())
+
+
 def reconstruct_hidden(
     model: HeliModel,
     flight,
@@ -143,16 +258,32 @@ def reconstruct_hidden(
     tol: float = 1e-9,
 ) -> HiddenStates:
     """Hidden-state trajectories (T, m) consistent with the flight's measured body motion
-    (see the module docstring). `params` is None, one full parameter vector or a dict."""
+    (see the module docstring). `params` is None, one full parameter vector or a dict.
+    max_iter/tol: iterations per sample (compiled pass) or per sweep (relaxation) and the
+    relative change that ends them."""
     fa = flight if isinstance(flight, FlightArrays) else flight_arrays(model, flight)
-    t, x, u, env = fa.t, fa.x.copy(), fa.u, fa.env
-    n = t.size
+    n = fa.t.size
     w = _wind_array(wind, n)
     names = model.hidden_state_names
-    hid = np.array([model.state_names.index(s) for s in names], dtype=int)
-    m = hid.size
-    if m == 0:
+    if not names:
         return HiddenStates(np.zeros((n, 0)), [], 0, 0.0)
+    if model.is_compiled:
+        pm = model._param_matrix(params)
+        if pm.shape[0] != 1:
+            raise ValueError("reconstruct_hidden takes one parameter set; "
+                             "use predict_measurements for (K, P) sets")
+        h, _z, it, change = _reconstruct_compiled(model, fa, w, pm, tol, max_iter)
+        return HiddenStates(h[0], names, it, change)
+    return _reconstruct_relaxation(model, fa, w, params, max_iter, tol)
+
+
+def _reconstruct_relaxation(model, fa, w, params, max_iter, tol) -> HiddenStates:
+    """Waveform relaxation over the whole flight (models with numpy stages)."""
+    t, x, u, env = fa.t, fa.x.copy(), fa.u, fa.env
+    n = t.size
+    names = model.hidden_state_names
+    hid = _hidden_index(model)
+    m = hid.size
 
     def rates(xx, uu, ww, ee):
         return model.derivatives(xx, uu, ww, ee, params)[:, hid]
@@ -220,20 +351,36 @@ def predict_measurements(
         rotor_speed_rad_s (optional) and height_agl_m (optional).
     wind: None (still air), (6,) constant or (T, 6) eq 5.3 wind per sample.
     params: None, a full parameter vector (P,), a dict, or (K, P) parameter sets
-        -> returns (K, T, 6) (one hidden-state reconstruction per set).
+        -> returns (K, T, 6) (one hidden-state reconstruction per set; an all-kernel
+        model runs all K in one compiled pass, no Python loop over K).
     hidden: precomputed hidden states (e.g. shared by many winds in a particle filter).
+    return_hidden: also return the HiddenStates (h (T, m), or (K, T, m) for K sets).
     """
-    if params is not None and not isinstance(params, Mapping) and np.ndim(params) == 2:
-        out = [predict_measurements(model, flight, wind, p, None) for p in np.asarray(params)]
-        return np.stack(out)
     fa = flight if isinstance(flight, FlightArrays) else flight_arrays(model, flight)
     w = _wind_array(wind, fa.t.size)
+    sets = params is not None and not isinstance(params, Mapping) and np.ndim(params) == 2
+    if hidden is None and model.is_compiled and model.hidden_state_names:
+        pm = model._param_matrix(params)
+        h, z, it, change = _reconstruct_compiled(model, fa, w, pm, 1e-9, 12)
+        if sets:
+            hs = HiddenStates(h, model.hidden_state_names, it, change)
+            return (z, hs) if return_hidden else z
+        hs = HiddenStates(h[0], model.hidden_state_names, it, change)
+        return (z[0], hs) if return_hidden else z[0]
+    if sets:
+        out = [predict_measurements(model, fa, w, p, None, True) for p in np.asarray(params)]
+        z = np.stack([o[0] for o in out])
+        if return_hidden:
+            hs = HiddenStates(np.stack([o[1].h for o in out]), model.hidden_state_names,
+                              max(o[1].iterations for o in out),
+                              max(o[1].change for o in out))
+            return z, hs
+        return z
     if hidden is None:
         hidden = reconstruct_hidden(model, fa, w, params)
     h = hidden.h if isinstance(hidden, HiddenStates) else np.asarray(hidden)
     x = fa.x.copy()
-    hid = [model.state_names.index(s) for s in model.hidden_state_names]
-    x[:, hid] = h
+    x[:, _hidden_index(model)] = h
     z = model.measure(x, fa.u, w, fa.env, params)
     return (z, hidden) if return_hidden else z
 
