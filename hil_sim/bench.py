@@ -12,11 +12,15 @@ SECTION = "sim"
 
 
 def run(quick: bool) -> dict:
+    # imports and the compiled model's first load are not the simulator's speed: warm up
+    import airwake.record.flight_builder  # noqa: F401  (pandas, pyarrow)
+
     from hil_sim.world.run import run_scenario
     from hil_sim.world.scenario import load_scenario
 
     duration = 5.0 if quick else 30.0
     scenario = load_scenario("still_air_calibration")
+    run_scenario(scenario, seed=scenario.seed, duration_s=0.2).flight_table()
     result = run_scenario(scenario, seed=scenario.seed, duration_s=duration)
     built = result.flight_table()
     t = result.timing

@@ -136,3 +136,34 @@ def test_replace_validates_like_the_file():
 def test_scenario_table_helper_matches_loader():
     assert scenario_table("hidden_lever_arm")["hidden"]["lever_arm"]["position_m"] == [
         0.10, -0.05, -0.12]
+
+
+def test_sim_table_cli_writes_a_loadable_table_and_prints_the_realtime_factor(tmp_path,
+                                                                              capsys):
+    from airwake.cli import main
+    from airwake.record.flight_table import load_flight_table
+
+    out = tmp_path / "flight.csv"
+    status = main(["sim", "table", "--scenario", "still_air_calibration", "--duration", "1.5",
+                   "--seed", "3", "--out", str(out), "--quiet"])
+    assert status == 0
+    printed = capsys.readouterr().out
+    assert "real-time factor" in printed and str(out) in printed
+    ft = load_flight_table(out)
+    assert ft.metadata["seed"] == 3 and ft.metadata["scenario"] == "still_air_calibration"
+    assert ft.df["t_s"].iloc[-1] > 1.3
+
+
+def test_sim_table_cli_bad_scenario_is_one_line_and_exit_2(tmp_path, capsys):
+    from airwake.cli import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text("rate_hz = 10.0\n")
+    status = main(["sim", "table", "--scenario", str(bad), "--out", str(tmp_path / "f.parquet")])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert "rate_hz = 10.0" in err and str(bad) in err
+    assert not (tmp_path / "f.parquet").exists()
+    status = main(["sim", "table", "--scenario", "still_air_calibration", "--out",
+                   str(tmp_path / "f.txt")])
+    assert status == 2 and "unknown flight-table extension" in capsys.readouterr().err
