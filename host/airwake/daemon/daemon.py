@@ -10,7 +10,8 @@ saving (docs/daemon.md has the figures); host receive times stay within 5 ms.
 
 Per received chunk: the raw bytes go to `/raw/<role>` with the receive time; per decoded
 frame: its origin board's `BoardLink` counts it and maps its board time
-(`link.clock.BoardClock`), and the frame goes to `/<board>/<message>` as JSON. Per port
+(`link.clock.BoardClock`), and the frame goes to `/<board>/<message>` (ros1-encoded:
+header + packed payload, docs/recordings.md). Per port
 every 0.5 s a `time_sync_request` (NTP-style: the board's reply gives the two-sided clock
 fit) and every 0.25 s one of the host's `schema_entry` announcements. With a marker and a
 LOSA tracker present, `marker_command` at 60 Hz to the marker's port.
@@ -134,7 +135,7 @@ class Daemon:
         self._request_id = 0
         self._next_status = 0.0
         self._reported_failure = False
-        self._tty = bool(getattr(self.stdout, "isatty", lambda: False)())
+        self._status_file_failed = False
         self.host_seq = [0] * 256
 
     # -- events ---------------------------------------------------------------
@@ -315,10 +316,10 @@ class Daemon:
                 self._send(ps, TimeSyncRequest(self._request_id, now_ns // 1000), now_ns)
             if now >= ps.next_schema:
                 ps.next_schema = now + self.opt.schema_period_s
-                mid = HOST_SENT_IDS[ps.schema_index % len(HOST_SENT_IDS)]
+                k = ps.schema_index % len(HOST_SENT_IDS)
                 ps.schema_index += 1
-                self._send(ps, SchemaEntry(mid, BY_ID[mid].def_hash, ps.schema_index
-                                           % len(HOST_SENT_IDS), len(HOST_SENT_IDS)),
+                mid = HOST_SENT_IDS[k]
+                self._send(ps, SchemaEntry(mid, BY_ID[mid].def_hash, k, len(HOST_SENT_IDS)),
                            time.monotonic_ns())
         self._marker_loop(now)
         self.recorder.tick(now)
@@ -327,7 +328,7 @@ class Daemon:
             self.event("recording_failed", self.recorder.failed, loud=True)
         if now >= self._next_status:
             self._next_status = now + self.opt.status_period_s
-            self._status(now)
+            self._status()
 
     def _present(self, origin: int, now_s: float) -> BoardLink | None:
         b = self.boards.get(origin)
@@ -354,7 +355,8 @@ class Daemon:
 
     # -- status -------------------------------------------------------------------
 
-    def status(self, now: float | None = None) -> dict:
+    def status(self) -> dict:
+        """The link-health snapshot (docs/daemon.md lists the keys)."""
         now_ns = time.monotonic_ns()
         now_s = (now_ns - self.start_ns) / 1e9
         ports = {}
@@ -382,16 +384,16 @@ class Daemon:
             "events": list(self.events)[-5:],
         }
 
-    def _status(self, now: float) -> None:
+    def _status(self) -> None:
         for ps in self.ports:
             self._check_schema(ps)
-        st = self.status(now)
+        st = self.status()
         self.recorder.json("/daemon/status", st["host_monotonic_ns"], st)
         target = self.opt.status_json
         if target == "-":
             print(json.dumps(st, default=str), file=self.stdout, flush=True)
         elif target:
-            _atomic_write(Path(target), json.dumps(st, indent=1, default=str))
+            self._write_status_file(Path(target), st)
         if self.opt.view:
             from airwake.daemon.view import render
 
@@ -403,6 +405,15 @@ class Daemon:
             else:
                 out.write(text + "\n")
             out.flush()
+
+    def _write_status_file(self, path: Path, st: dict) -> None:
+        try:
+            _atomic_write(path, json.dumps(st, indent=1, default=str))
+        except OSError as exc:  # a full disk must not stop the ingest
+            if not self._status_file_failed:
+                self._status_file_failed = True
+                self.event("status_file_failed", f"cannot write {path}: {exc.strerror}",
+                           loud=True)
 
     def _shutdown(self) -> int:
         for ps in self.ports:
@@ -427,7 +438,7 @@ class Daemon:
         self.recorder.close(summary)
         st = self.status()
         if self.opt.status_json and self.opt.status_json != "-":
-            _atomic_write(Path(self.opt.status_json), json.dumps(st, indent=1, default=str))
+            self._write_status_file(Path(self.opt.status_json), st)
         if self.recorder.failed:
             print(f"airwake daemon: error: {self.recorder.failed}", file=self.stderr, flush=True)
             return 1
