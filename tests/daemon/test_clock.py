@@ -130,3 +130,11 @@ def test_envelope_ignores_late_outliers():
     fit = fit_envelope(x, z)
     np.testing.assert_allclose(fit.line.rate, 1 + 1e-4, rtol=0, atol=1e-12)
     assert abs(float(fit.line.to_host(30e6)) - (30e6 + 1000.0 + 3000.0)) < 1e-6
+
+
+def test_live_clock_memory_stays_bounded():
+    # a daemon runs for hours: the live fit keeps only its trailing window of bins
+    clock = BoardClock(window_s=20.0)
+    feed(clock, SimClock(), np.random.default_rng(6), 120.0)
+    ep = clock.ep
+    assert len(ep.up) <= 22 and len(ep.down) <= 22 and len(ep.order) <= 3 * 22
