@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from airwake.daemon.fake_boards import FakeBoard
 from airwake.record.reader import open_recording, recover_recording
-from conftest import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
+from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
 ROLES = ["losa", "marker", "base"]
 

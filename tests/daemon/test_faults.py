@@ -7,7 +7,7 @@ import time
 import numpy as np
 from airwake.daemon.fake_boards import BoardSim, FakeBoard, Faults
 from airwake.record.reader import open_recording
-from conftest import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
+from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
 BAD_KINDS = ("crc_error", "cobs_error", "unknown_id", "def_mismatch", "oversize")
 

@@ -12,7 +12,7 @@ from airwake.link.messages import BOARD_IDS
 from airwake.record.flight_table import load_flight_table
 from airwake.record.reader import open_recording
 from airwake.tracking.losa import triangulate
-from conftest import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
+from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
 RUN_S = 7.0
 
