@@ -34,7 +34,7 @@ import numpy as np
 
 from airwake.heli import compiled_loops
 from airwake.heli.effects.base import STAGES
-from airwake.heli.kernel import JIT_OPTIONS, is_kernel
+from airwake.heli.kernel import JIT_OPTIONS, is_kernel, unmanaged
 from airwake.heli.kernel_cache import cache_dir, fingerprint
 from airwake.heli.layout import DEFAULTS, N_SLOTS, Q
 
@@ -101,7 +101,7 @@ class _Source:
     def __init__(self, model) -> None:
         self.model = model
         self.lines: list[str] = []
-        self.globals: dict[str, object] = {"np": np}
+        self.globals: dict[str, object] = {"np": np, "unmanaged": unmanaged}
         self.kernels: list[object] = []
         eff = model.effects
         self.param_offset = {}
@@ -231,6 +231,8 @@ def _generate(model) -> tuple[str, dict, list, _Source, list]:
     for s_idx, seg in enumerate(segments):
         name = "row" if pure else f"row{s_idx}"
         src.lines.append(f"def {name}({ROW_ARGS}):")
+        src.emit("q, xr, dxr, ld, sc = (unmanaged(q), unmanaged(xr), unmanaged(dxr), "
+                 "unmanaged(ld), unmanaged(sc))")
         if s_idx == 0:
             src.emit_init()
         done: dict = {}

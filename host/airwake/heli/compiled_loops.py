@@ -16,7 +16,7 @@ Broadcast convention: an input array with a leading row axis is read at row `i *
 with stride 1 (one entry per row) or 0 (one entry for all rows).
 """
 
-# ruff: noqa: F821  (row, N_SLOTS, … are globals of the generated module)
+# ruff: noqa: F821  (row, unmanaged, N_SLOTS, … are globals of the generated module)
 
 import numpy as np
 
@@ -24,6 +24,9 @@ import numpy as np
 def evaluate_rows(n, c, cs, x, xs, xdot, meas, loads, scratch, u, us, w, ws, hagl, hs,
                   omm, oms, params, ps):
     """n rows; c/loads/scratch (1 or n, …) with stride cs (0: reuse one row)."""
+    c, x, xdot, meas, loads, scratch = (unmanaged(c), unmanaged(x), unmanaged(xdot),
+                                        unmanaged(meas), unmanaged(loads), unmanaged(scratch))
+    u, w, params = unmanaged(u), unmanaged(w), unmanaged(params)
     for i in range(n):
         row(c[i * cs], x[i * xs], xdot[i], meas[i], loads[i * cs], scratch[i * cs],
             u[i * us], w[i * ws], hagl[i * hs], omm[i * oms], params[i * ps], HAS, SENSED)
@@ -55,6 +58,8 @@ def work_arrays():
 
 def rk4_rows(n, x, xs, u, us, w, ws, hagl, hs, omm, oms, params, ps, dt, out):
     """One RK4 step for each of n rows: out (n, S)."""
+    x, u, w, params, out = unmanaged(x), unmanaged(u), unmanaged(w), unmanaged(params), \
+        unmanaged(out)
     work = work_arrays()
     for i in range(n):
         rk4_one(x[i * xs], u[i * us], w[i * ws], hagl[i * hs], omm[i * oms], params[i * ps],
@@ -66,6 +71,8 @@ def simulate_rows(n, x0, xs, steps, dt, every, u, ut, us, w, wt, ws, hagl, ht, h
     """Integrate n rows over `steps` RK4 steps; inputs sampled per step: u (T, R, 4) read
     at [k * ut, i * us] (ut, us in {0, 1}), likewise w (T, R, 6), hagl and omm (T, R).
     Keeps every `every`-th state (step 0 included) in xout (steps // every + 1, n, S)."""
+    x0, u, w, params, xout = unmanaged(x0), unmanaged(u), unmanaged(w), unmanaged(params), \
+        unmanaged(xout)
     work = work_arrays()
     xi = np.empty(N_STATES)
     xn = np.empty(N_STATES)
@@ -130,6 +137,7 @@ def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec
     h is the one evaluated last (its measurement goes to mout). stats[k] = (largest
     number of iterations, largest final relative change)."""
     m = N_HIDDEN
+    x, u, w, params = unmanaged(x), unmanaged(u), unmanaged(w), unmanaged(params)
     work = work_arrays()
     xr = np.empty(N_STATES)
     g = np.empty(m)

@@ -31,6 +31,9 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+from numba.core import types
+from numba.extending import intrinsic
+from numba.np.arrayobj import make_array
 
 from airwake.heli import kernel_cache  # noqa: F401  (registers the kernels' cache locator)
 from airwake.heli.layout import Q
@@ -55,6 +58,24 @@ def kernel(fn):
 
 def is_kernel(obj) -> bool:
     return getattr(obj, "airwake_kernel", False) is True
+
+
+@intrinsic
+def _data_pointer(typingctx, arr):
+    """Pointer to a C-contiguous array's first element."""
+    sig = types.CPointer(arr.dtype)(arr)
+
+    def codegen(context, builder, signature, args):
+        return make_array(signature.args[0])(context, builder, value=args[0]).data
+
+    return sig, codegen
+
+
+@kernel_function
+def unmanaged(a):
+    """The same C-contiguous array without reference counting: views sliced from it (one
+    per effect and row) then cost no atomic increments. The caller keeps `a` alive."""
+    return numba.carray(_data_pointer(a), a.shape)
 
 
 @kernel_function
@@ -104,8 +125,9 @@ def solve3(m00, m01, m02, m10, m11, m12, m20, m21, m22, r0, r1, r2):
     y0 = r0 * co0 + b * (f * r2 - r1 * i) + c * (r1 * h - e * r2)
     y1 = a * (r1 * i - f * r2) + r0 * co1 + c * (d * r2 - r1 * g)
     y2 = a * (e * r2 - r1 * h) + b * (r1 * g - d * r2) + r0 * co2
-    return y0 / det, y1 / det, y2 / det
+    inv = 1.0 / det
+    return y0 * inv, y1 * inv, y2 * inv
 
 
 __all__ = ["JIT_OPTIONS", "Q", "add_load", "air_velocity_at", "cross", "is_kernel",
-           "kernel", "kernel_function", "np", "solve3"]
+           "kernel", "kernel_function", "np", "solve3", "unmanaged"]

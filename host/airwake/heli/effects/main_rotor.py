@@ -20,6 +20,7 @@ CC = COS * COS
 CS = COS * SIN
 SS = SIN * SIN
 W = 1.0 / N_PSI  # azimuth-average weight
+_THIRD = 1.0 / 3.0
 
 # scratch layout (per row, rotor_loading -> forces): eight azimuth samples of each
 _C, _D, _TH, _BE, _ZP, _T0, _T1, _T2, _I0, _I1 = (k * N_PSI for k in range(10))
@@ -163,26 +164,29 @@ class MainRotor(Effect):
         b0, bc, bs, db0, dbc, dbs = s[0], s[1], s[2], s[3], s[4], s[5]
         zc, zs, dz0, dzc, dzs = s[7], s[8], s[9], s[10], s[11]
         th0, thc, ths = q[Q.theta_0], q[Q.theta_c], q[Q.theta_s]
+        inv_vt, inv_om = 1.0 / vt, 1.0 / om
         # first-harmonic series x0 + xc cos psi + xs sin psi, ' = d/dpsi
-        zp0, zpc, zps = dz0 / om, dzc / om + zs, dzs / om - zc  # zeta'
-        bp0, bpc, bps = db0 / om, dbc / om + bs, dbs / om - bc  # beta'
+        zp0, zpc, zps = dz0 * inv_om, dzc * inv_om + zs, dzs * inv_om - zc  # zeta'
+        bp0, bpc, bps = db0 * inv_om, dbc * inv_om + bs, dbs * inv_om - bc  # beta'
+        b_0 = 1.0 + wrz * inv_om
+        c_0 = -v0z * inv_vt
         lift_m = mom_c = mom_s = t0_m = t1_c = t1_s = cc = cs = ss = 0.0
         for k in range(N_PSI):
             ck, sk = COS[k], SIN[k]
             # U_T = a + b rbar, U_P = c + d rbar  (c, d without inflow)      (5.5, 5.6)
-            a = -(v0x * sk + v0y * ck) / vt
+            a = -(v0x * sk + v0y * ck) * inv_vt
             zeta_p = zp0 + zpc * ck + zps * sk
-            b = 1.0 + wrz / om + zeta_p
+            b = b_0 + zeta_p
             beta = b0 + bc * ck + bs * sk
             beta_p = bp0 + bpc * ck + bps * sk
             er_v0 = -v0x * ck + v0y * sk
-            c = -v0z / vt - beta * er_v0 / vt
-            d = -(wrx * sk + wry * ck) / om - beta_p
+            c = c_0 - beta * er_v0 * inv_vt
+            d = -(wrx * sk + wry * ck) * inv_om - beta_p
             theta = th0 + thc * ck + ths * sk
             t0 = a + 0.5 * b
-            t1 = 0.5 * a + b / 3.0
-            t2 = a / 3.0 + 0.25 * b
-            i0tt = a * a + a * b + b * b / 3.0
+            t1 = 0.5 * a + b * _THIRD
+            t2 = a * _THIRD + 0.25 * b
+            i0tt = a * a + a * b + b * b * _THIRD
             i1tt = 0.5 * a * a + 2.0 / 3.0 * a * b + 0.25 * b * b
             lift = theta * i0tt + c * t0 + d * t1
             mom = theta * i1tt + c * t1 + d * t2
@@ -223,14 +227,10 @@ class MainRotor(Effect):
         om = q[Q.rotor_speed_rad_s]
         k_t = scratch[_KT]
         l0, lc, ls = q[Q.inflow_0], q[Q.inflow_c], q[Q.inflow_s]
-        # C_T first: the profile drag depends on it
-        lift_m = 0.0
-        for k in range(N_PSI):
-            c = scratch[_C + k] - l0
-            d = scratch[_D + k] - (lc * COS[k] + ls * SIN[k])
-            i0tp = c * scratch[_T0 + k] + d * scratch[_T1 + k]
-            lift_m += (scratch[_TH + k] * scratch[_I0 + k] + i0tp) * W
-        ct = k_t * lift_m
+        # C_T first (the profile drag depends on it): the loads are affine in the inflow
+        ct = q[Q.rotor_load_base] + (q[Q.rotor_load_jac] * l0 + q[Q.rotor_load_jac + 1] * lc
+                                     + q[Q.rotor_load_jac + 2] * ls)
+        lift_m = ct / k_t
         k_drag = (p.drag_delta0 + p.drag_delta2 * ct * ct) / p.lift_slope_per_rad
         gam = p.lock_number
         e = p.lag_hinge_offset
@@ -248,7 +248,7 @@ class MainRotor(Effect):
             d = scratch[_D + k] - (lc * ck + ls * sk)
             i0tp = c * t0 + d * t1
             i1tp = c * t1 + d * t2
-            i0pp = c * c + c * d + d * d / 3.0
+            i0pp = c * c + c * d + d * d * _THIRD
             i1pp = 0.5 * c * c + 2.0 / 3.0 * c * d + 0.25 * d * d
             lift = theta * i0tt + i0tp  # int F_L drbar            (5.7, 5.10)
             mom = theta * i1tt + i1tp  # int F_L rbar drbar       (5.8)

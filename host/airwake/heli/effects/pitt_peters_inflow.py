@@ -72,16 +72,18 @@ class PittPetersInflow(Effect):
             vmin = 0.5 * math.sqrt(0.5 * abs(ct))
             free = v_free >= vmin
             vt = v_free if free else vmin
-            vmf = np.maximum((mu * mu + lt * (lt + lam0)) / vt, _EPS)
+            inv_vt = 1.0 / vt
+            vmf = np.maximum((mu * mu + lt * (lt + lam0)) * inv_vt, _EPS)
             x = np.minimum(np.maximum(mu / np.maximum(vt + lt, 1e-9), 0.0), 1.0)
-            cchi = np.minimum(np.maximum(lt / vt, 0.0), 1.0)
-            g1 = 4.0 * cchi / (1.0 + cchi)
+            cchi = np.minimum(np.maximum(lt * inv_vt, 0.0), 1.0)
             g2 = 4.0 / (1.0 + cchi)
+            g1 = cchi * g2
             kx = _K15 * x
             # lambda_0 V_T(lambda_0) linearised about the current lambda_0
-            dvt = lt / vt if free else 0.0
+            dvt = lt * inv_vt if free else 0.0
             a0 = np.maximum(vt + lam0 * dvt, 0.5 * vt)
             b0 = lam0 * lam0 * dvt
+            p0, p1, p2 = s0, s1, s2
             s0, s1, s2 = solve3(
                 -0.5 * jt0 + kx * ja0 + a0, -0.5 * jt1 + kx * ja1, -0.5 * jt2 + kx * ja2,
                 -(kx * jt0 + g1 * ja0), vmf * cd - (kx * jt1 + g1 * ja1),
@@ -90,6 +92,9 @@ class PittPetersInflow(Effect):
                 b0 + 0.5 * bt - kx * ba, kx * bt + g1 * ba, g2 * bb,
             )
             lam0 = s0
+            if max(abs(s0 - p0), abs(s1 - p1), abs(s2 - p2)) <= 1e-13 * (
+                    abs(s0) + abs(s1) + abs(s2)):
+                break  # converged: more iterations change the inflow by < 1e-13
         q[Q.inflow_0] = s0
         q[Q.inflow_c] = s1
         q[Q.inflow_s] = s2

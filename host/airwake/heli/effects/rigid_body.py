@@ -96,10 +96,10 @@ class RigidBody(Effect):
         # Euler kinematics
         roll, pitch, yaw = q[Q.roll_rad], q[Q.pitch_rad], q[Q.yaw_rad]
         sf, cf = math.sin(roll), math.cos(roll)
-        ct, tt = math.cos(pitch), math.tan(pitch)
+        st, ct = math.sin(pitch), math.cos(pitch)
+        tt = st / ct
         a = qr * sf + rr * cf
         # position rate: C_nb (ZYX Euler) times the body velocity
-        st = math.sin(pitch)
         cp, sp = math.cos(yaw), math.sin(yaw)
         ds[0] = cp * ct * u + (cp * st * sf - sp * cf) * v + (cp * st * cf + sp * sf) * w
         ds[1] = sp * ct * u + (sp * st * sf + cp * cf) * v + (sp * st * cf - cp * sf) * w

@@ -62,7 +62,10 @@ class TailRotor(Effect):
             sq = math.sqrt(mu2 + lt * lt + 1e-8)
             f = 2.0 * lam * sq - (c_geo - 0.5 * k * lam)
             fp = 2.0 * sq + 2.0 * lam * lt / sq + 0.5 * k
-            lam = lam - f / fp
+            step = f / fp
+            lam = lam - step
+            if abs(step) <= 1e-13 * abs(lam):
+                break  # converged (Newton: the next step would be ~1e-26)
         ct = c_geo - 0.5 * k * lam
         rho = q[Q.air_density_kg_m3]
         thrust = ct * rho * np.pi * p.radius_m**2 * tip * tip
