@@ -17,7 +17,8 @@ Defaults (T-Rex 600 class set-up): cyclic +-8 deg over +-500 us (2.793e-4 rad/us
 collective -3..+12 deg over 1000..2000 us (2.618e-4 rad/us, 4.5 deg at 1500 us), tail
 pitch +-20 deg over +-500 us (6.981e-4 rad/us). `blade_pitch_to_pwm` is the forward
 map the simulator uses, `pwm_to_blade_pitch` the inverse the flight-table builders use.
-Blade-pitch arrays are ordered `[col, lat, lon, ped]` (`BLADE_PITCH_COLUMNS`).
+Blade-pitch arrays are ordered `[col, lat, lon, ped]`
+(`airwake.record.rigging.BLADE_PITCH_COLUMNS`).
 
 Tail servo (measured by the rover): the heading-hold gyro's command to the tail servo,
 one channel, default 333 Hz frames centred at 1520 us (`TailServoConfig`).
@@ -32,6 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from airwake.record.rigging import PwmRigging, RiggingError
 
 from hil_sim.sensors.config import (
     check_choice,
@@ -44,31 +46,22 @@ from hil_sim.sensors.noise import quantize
 from hil_sim.sensors.streams import EdgeStream, sample_times
 from hil_sim.world.kinematics import Trajectory
 
-BLADE_PITCH_COLUMNS = ("delta_col_rad", "delta_lat_rad", "delta_lon_rad", "delta_ped_rad")
 RC_CHANNEL_NAMES = ("aileron", "elevator", "collective", "rudder", "aux")
-# Blade-pitch column (index into [col, lat, lon, ped]) driven by RC channels 1..4.
-CHANNEL_SOURCE = (1, 2, 0, 3)
-
-Vec4 = tuple[float, float, float, float]
 
 
 @dataclass(frozen=True)
-class PwmMapping:
-    """Linear pulse-width <-> blade-pitch map for RC channels 1..4 (see module doc)."""
+class PwmMapping(PwmRigging):
+    """The helicopter's rigging (`airwake.record.rigging.PwmRigging`, the single source of
+    the pulse-width <-> blade-pitch numbers) plus the transmitter's end points."""
 
-    center_us: Vec4 = (1500.0, 1500.0, 1500.0, 1500.0)
-    gain_rad_per_us: Vec4 = (2.793e-4, 2.793e-4, 2.618e-4, 6.981e-4)
-    offset_rad: Vec4 = (0.0, 0.0, 0.07854, 0.0)
     min_us: float = 1000.0
     max_us: float = 2000.0
 
     def __post_init__(self) -> None:
-        check_finite("center_us", self.center_us)
-        check_finite("gain_rad_per_us", self.gain_rad_per_us)
-        check_finite("offset_rad", self.offset_rad)
-        for g in self.gain_rad_per_us:
-            if g == 0:
-                raise ValueError(f"gain_rad_per_us = {self.gain_rad_per_us!r}: gains must be != 0")
+        try:
+            super().__post_init__()
+        except RiggingError as exc:
+            raise ValueError(str(exc)) from None
         if not self.min_us < self.max_us:
             raise ValueError(f"min_us = {self.min_us!r}, max_us = {self.max_us!r}: need min < max")
 
@@ -81,24 +74,14 @@ def blade_pitch_to_pwm(
     Widths outside `[min_us, max_us]` are clipped (the transmitter's end points).
     """
     m = mapping or PwmMapping()
-    bp = np.atleast_2d(np.asarray(blade_pitch_rad, dtype=float))
-    src = bp[:, list(CHANNEL_SOURCE)]
-    width = np.asarray(m.center_us) + (src - np.asarray(m.offset_rad)) / np.asarray(
-        m.gain_rad_per_us)
-    width = np.clip(width, m.min_us, m.max_us)
-    aux = np.full((bp.shape[0], 1), float(np.clip(aux_us, m.min_us, m.max_us)))
+    width = np.clip(m.blade_pitch_to_pwm(blade_pitch_rad), m.min_us, m.max_us)
+    aux = np.full((width.shape[0], 1), float(np.clip(aux_us, m.min_us, m.max_us)))
     return np.concatenate([width, aux], axis=1)
 
 
 def pwm_to_blade_pitch(pwm_us: np.ndarray, mapping: PwmMapping | None = None) -> np.ndarray:
     """(N, >=4) widths of RC channels 1..4(..5) in us -> (N, 4) `[col, lat, lon, ped]` rad."""
-    m = mapping or PwmMapping()
-    w = np.atleast_2d(np.asarray(pwm_us, dtype=float))[:, :4]
-    pitch_by_channel = np.asarray(m.offset_rad) + np.asarray(m.gain_rad_per_us) * (
-        w - np.asarray(m.center_us))
-    out = np.empty_like(pitch_by_channel)
-    out[:, list(CHANNEL_SOURCE)] = pitch_by_channel
-    return out
+    return (mapping or PwmMapping()).pwm_to_blade_pitch(pwm_us)
 
 
 # ---------------------------------------------------------------------------
