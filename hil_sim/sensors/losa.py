@@ -41,6 +41,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from airwake.tracking.losa import WIRE_PIXELS
+from airwake.tracking.losa import LosaGeometry as TrackerGeometry
+from airwake.tracking.losa import triangulate as triangulate_wire
 from scipy.special import fresnel
 
 from hil_sim.sensors.config import check_nonnegative, check_positive, check_range
@@ -56,16 +59,14 @@ MARKER_LED_DIRECTIONS = np.array(
 
 
 @dataclass(frozen=True)
-class LosaGeometry:
-    """Optical geometry of the tracker (defaults from §3.3.1, Table 3.1, TSL1401CL)."""
+class LosaGeometry(TrackerGeometry):
+    """Optical geometry of the tracker (defaults from §3.3.1, Table 3.1, TSL1401CL): the
+    host's tracker geometry (`airwake.tracking.losa.LosaGeometry`: baseline, slot height
+    and spacing, pixels — the single source of those numbers and of the inverse geometry)
+    plus the optics the forward model needs."""
 
-    baseline_m: float = 0.40
-    focal_height_m: float = 0.012
     slot_width_m: float = 0.13e-3
-    slot_spacing_m: float = 8.0e-3
     n_slots: int = 3
-    n_pixels: int = 128
-    pixel_pitch_m: float = 63.5e-6
     pixel_active_m: float = 55.5e-6
     wavelength_m: float = 850e-9
     cross_fov_deg: float = 60.0  # half-angle along the slots (slot length limit)
@@ -82,14 +83,6 @@ class LosaGeometry:
             raise ValueError(f"pixel_active_m = {self.pixel_active_m!r}: exceeds the pitch")
         check_range("cross_fov_deg", self.cross_fov_deg, 1.0, 89.0)
 
-    def module_frames(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """(centre (4, 3), u (4, 3), n (4, 3), w (4, 3)) of each module in the tracker frame."""
-        b = self.baseline_m / 2
-        centre = np.array([[-b, 0, 0], [b, 0, 0], [0, -b, 0], [0, b, 0]], dtype=float)
-        u = np.array([[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0]], dtype=float)
-        n = np.tile([0.0, 0.0, 1.0], (N_MODULES, 1))
-        return centre, u, n, np.cross(n, u)
-
     def slot_centres_m(self) -> np.ndarray:
         """(n_slots,) slot positions along u, index 0 at the most negative u."""
         half = (self.n_slots - 1) // 2
@@ -101,9 +94,6 @@ class LosaGeometry:
 
     def u_to_pixel(self, u_m: np.ndarray) -> np.ndarray:
         return np.asarray(u_m) / self.pixel_pitch_m + self.centre_pixel
-
-    def pixel_to_u(self, pixel: np.ndarray) -> np.ndarray:
-        return (np.asarray(pixel, dtype=float) - self.centre_pixel) * self.pixel_pitch_m
 
     # -- forward geometry ----------------------------------------------------
 
@@ -133,22 +123,16 @@ class LosaGeometry:
 
     # -- inverse geometry ----------------------------------------------------
 
+    def wire_slot(self, slot_index: np.ndarray | int) -> np.ndarray:
+        """Simulator slot index (0 at the most negative u) -> wire slot (-1/0/+1 at
+        u = -slot * spacing, as `losa_peaks` and the host's triangulation number them)."""
+        return (self.n_slots - 1) // 2 - np.asarray(slot_index)
+
     def pixel_to_plane(self, module: np.ndarray | int, pixel: np.ndarray | float,
                        slot: np.ndarray | int) -> tuple[np.ndarray, np.ndarray]:
-        """The plane a source imaged at `pixel` through `slot` of `module` lies on.
-
-        Returns (unit normal (..., 3), offset (...)) with `normal @ x == offset` for
-        every tracker-frame point x on the plane. The plane holds the slot line and
-        the image line (both along w).
-        """
-        centre, u, n, w = self.module_frames()
-        m = np.asarray(module)
-        slot_point = (centre[m] + self.slot_centres_m()[np.asarray(slot)][..., None] * u[m]
-                      + self.focal_height_m * n[m])
-        image_point = centre[m] + self.pixel_to_u(pixel)[..., None] * u[m]
-        normal = np.cross(slot_point - image_point, w[m])
-        normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
-        return normal, np.einsum("...k,...k->...", normal, slot_point)
+        """The plane a source imaged at `pixel` through slot index `slot` of `module`
+        lies on: (unit normal (..., 3), offset (...)), `normal @ x == offset`."""
+        return self.slot_plane(module, pixel, self.wire_slot(slot))
 
     def pixel_to_ray(self, module: np.ndarray | int, pixel: np.ndarray | float,
                      slot: np.ndarray | int) -> tuple[np.ndarray, np.ndarray]:
@@ -163,24 +147,14 @@ class LosaGeometry:
         return origin, d / np.linalg.norm(d, axis=-1, keepdims=True)
 
     def triangulate(self, pixels: np.ndarray, slots: np.ndarray) -> np.ndarray:
-        """Least-squares intersection of the four modules' planes, (..., 4) -> (..., 3).
-
-        NaN pixels (no peak) are left out; at least three planes are needed.
-        """
+        """Least-squares intersection of the four modules' planes (the host's
+        triangulation), (..., 4) raw pixels + slot indexes -> (..., 3); NaN pixels (no
+        peak) are left out, at least three planes are needed (else NaN)."""
         pixels = np.asarray(pixels, dtype=float)
-        slots = np.asarray(slots)
-        normal, offset = self.pixel_to_plane(np.arange(N_MODULES), np.nan_to_num(pixels),
-                                             np.clip(slots, 0, self.n_slots - 1))
-        ok = np.isfinite(pixels)
-        normal = np.where(ok[..., None], normal, 0.0)
-        offset = np.where(ok, offset, 0.0)
-        ata = np.einsum("...mi,...mj->...ij", normal, normal)
-        atb = np.einsum("...mi,...m->...i", normal, offset)
-        out = np.full(pixels.shape[:-1] + (3,), np.nan)
-        enough = ok.sum(axis=-1) >= 3
-        if np.any(enough):
-            out[enough] = np.linalg.solve(ata[enough], atb[enough][..., None])[..., 0]
-        return out
+        wire = self.wire_slot(np.clip(slots, 0, self.n_slots - 1))
+        pos, _ = triangulate_wire(pixels + WIRE_PIXELS * wire, wire, np.isfinite(pixels),
+                                  geometry=self)
+        return pos
 
 
 @dataclass(frozen=True)

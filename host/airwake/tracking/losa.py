@@ -23,8 +23,8 @@ line (u = u_img, n = 0), both along w. Eq 3.4 solves one pair in closed form; wi
 modules we intersect the planes in least squares (normal equations of the 4 x 3 system
 N x = d), which reduces to eq 3.4 for one pair plus the other pair's direction.
 
-These constants belong to the host; the simulator (`hil_sim.sensors.losa.LosaGeometry`)
-holds the same numbers and should import them from here.
+These constants belong to the host; the simulator's `hil_sim.sensors.losa.LosaGeometry`
+extends this class with the optics it needs for its forward model.
 """
 
 from __future__ import annotations
@@ -61,21 +61,27 @@ class LosaGeometry:
     def pixel_to_u(self, pixel: np.ndarray) -> np.ndarray:
         return (np.asarray(pixel, dtype=float) - (self.n_pixels - 1) / 2.0) * self.pixel_pitch_m
 
+    def slot_plane(self, module, raw_px, slot) -> tuple[np.ndarray, np.ndarray]:
+        """Plane of a peak at `raw_px` (array pixel) seen through wire slot `slot` (-1/0/+1)
+        of `module`: unit normal (..., 3) and offset (...), n.x = d. The plane holds the
+        slot line and the image line (both along w)."""
+        centre, u, n, w = self.module_frames()
+        m = np.asarray(module)
+        slot_u = -np.asarray(slot, dtype=float) * self.slot_spacing_m
+        slot_point = centre[m] + slot_u[..., None] * u[m] + self.focal_height_m * n[m]
+        image_point = centre[m] + self.pixel_to_u(raw_px)[..., None] * u[m]
+        normal = np.cross(slot_point - image_point, w[m])
+        normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+        return normal, np.einsum("...k,...k->...", normal, slot_point)
+
     def planes(self, peak_px: np.ndarray, slot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Planes of wire peaks: unit normals (..., 4, 3) and offsets (..., 4), n.x = d.
 
         `peak_px` (..., 4) unwrapped wire positions, `slot` (..., 4) wire slots -1/0/+1.
         """
-        centre, u, n, w = self.module_frames()
-        peak_px = np.asarray(peak_px, dtype=float)
         slot = np.asarray(slot, dtype=float)
-        raw_px = peak_px - WIRE_PIXELS * slot
-        slot_u = -slot * self.slot_spacing_m
-        slot_point = centre + slot_u[..., None] * u + self.focal_height_m * n
-        image_point = centre + self.pixel_to_u(raw_px)[..., None] * u
-        normal = np.cross(slot_point - image_point, w)
-        normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
-        return normal, np.einsum("...k,...k->...", normal, slot_point)
+        raw_px = np.asarray(peak_px, dtype=float) - WIRE_PIXELS * slot
+        return self.slot_plane(np.arange(N_MODULES), raw_px, slot)
 
 
 DEFAULT_GEOMETRY = LosaGeometry()
