@@ -356,6 +356,7 @@ def scenario_from_table(table: Mapping[str, Any], name: str = "scenario",
         raise ValueError(f"description = {description!r}: expected a string")
     heli_t = dict(table.get("helicopter", {}))
     helicopter = config_from_dict(HelicopterConfig, heli_t, "helicopter")
+    helicopter = _validate_helicopter(helicopter, path)
     site = config_from_dict(SiteConfig, table.get("site"), "site")
     ship = None
     if site.type == "ship":
@@ -378,6 +379,30 @@ def scenario_from_table(table: Mapping[str, Any], name: str = "scenario",
                     rate_hz=float(top["rate_hz"]), wind_rate_hz=float(top["wind_rate_hz"]),
                     helicopter=helicopter, site=site, ship=ship, wind=wind, pilot=pilot,
                     sensors=sensors, hidden=hidden, faults=faults, table=dict(table))
+
+
+def _validate_helicopter(heli: HelicopterConfig, path: Path | None) -> HelicopterConfig:
+    """The spec loads and every override names a parameter in range; a relative spec
+    path is resolved against the scenario file's directory."""
+    from airwake.heli import load_spec
+    from airwake.heli.spec import SpecError
+
+    from hil_sim.world.truth import resolve_spec
+
+    spec = resolve_spec(heli.spec)
+    if isinstance(spec, str) and path is not None and ("/" in spec or spec.endswith(".toml")):
+        if not Path(spec).is_absolute():
+            spec = str((path.parent / spec).resolve())
+            heli = HelicopterConfig(spec=spec, overrides=dict(heli.overrides))
+    try:
+        model = load_spec(spec)
+        if heli.overrides:
+            model.with_parameters(dict(heli.overrides))
+    except SpecError as exc:
+        raise ValueError(f"helicopter.spec = {heli.spec!r}: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"helicopter.overrides: {exc}") from None
+    return heli
 
 
 def _validate_wind(wind: dict) -> None:

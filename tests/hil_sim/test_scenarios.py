@@ -167,3 +167,15 @@ def test_sim_table_cli_bad_scenario_is_one_line_and_exit_2(tmp_path, capsys):
     status = main(["sim", "table", "--scenario", "still_air_calibration", "--out",
                    str(tmp_path / "f.txt")])
     assert status == 2 and "unknown flight-table extension" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("text, needle", [
+    ('[helicopter]\nspec = "table99"\n', "helicopter.spec = 'table99'"),
+    ('[helicopter.overrides]\n"main_rotor.lock_numbr" = 3.0\n', "main_rotor.lock_numbr"),
+    ('[helicopter.overrides]\n"main_rotor.lock_number" = 99.0\n', "lock_number"),
+])
+def test_bad_helicopter_spec_or_override_is_a_scenario_error(tmp_path, text, needle):
+    p = write(tmp_path, text)
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(str(p))
+    assert str(p) in str(err.value) and needle in str(err.value)
