@@ -55,10 +55,8 @@ class Stepper:
         self._fast = model.is_compiled
         if self._fast:
             a = model._rows(model.zero_state(1), np.zeros(4), None, env, params)
-            self._h, self._hs = a.h, a.hs
-            self._om, self._oms = a.om, a.oms
-            self._p, self._ps = a.p, a.ps
-            self._rows_env = a.n  # rows fixed by env/params (1 when shared)
+            self._rows_env = a.n  # rows fixed by env/params (1 when shared by all rows)
+            self._h, self._om, self._p = a.h, a.om, a.p  # one row each: stride 0
             self._fn = model.compiled.fns.rk4_rows
             self._nw = np.zeros((1, 6))
 
@@ -79,8 +77,8 @@ class Stepper:
             out = rk4_step(self.model, x2, u2, self.dt, w2, self.env, self.params)
         else:
             out = np.empty_like(x2)
-            self._fn(n, x2, 1, u2, int(u2.shape[0] == n), w2, int(w2.shape[0] == n), self._h,
-                     self._hs, self._om, self._oms, self._p, self._ps, self.dt, out)
+            self._fn(n, x2, 1, u2, int(u2.shape[0] > 1), w2, int(w2.shape[0] > 1), self._h, 0,
+                     self._om, 0, self._p, 0, self.dt, out)
         return out[0] if one else out
 
 

@@ -101,21 +101,24 @@ def fingerprint(functions=()) -> str:
 
 
 class KernelCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
-    """numba cache locator for effect kernels: kept under cache_dir()/kernels, stamped with
-    the dependency fingerprint (see module docstring)."""
+    """numba cache locator for effect kernels: kept under cache_dir()/kernels/<fingerprint>,
+    stamped with the dependency fingerprint (see module docstring)."""
 
     def __init__(self, py_func, py_file) -> None:
         self._py_func = py_func
         self._py_file = py_file
         self._lineno = py_func.__code__.co_firstlineno
+        self._stamp = fingerprint([py_func])
         sub = self.get_suitable_cache_subpath(py_file)
-        self._cache_path = str(cache_dir() / "kernels" / sub)
+        # the fingerprint in the path too: numba unpickles an index (whose entries name
+        # the effects' modules) before it compares stamps, so a stale index is never read
+        self._cache_path = str(cache_dir() / "kernels" / self._stamp[:16] / sub)
 
     def get_cache_path(self) -> str:
         return self._cache_path
 
     def get_source_stamp(self):
-        return fingerprint([self._py_func])
+        return self._stamp
 
     @classmethod
     def from_function(cls, py_func, py_file):

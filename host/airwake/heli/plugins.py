@@ -13,6 +13,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import sys
 import traceback
@@ -34,17 +35,23 @@ def load_plugin(path) -> list[str]:
     if not p.is_file():
         raise EffectError(f"plugin {path} not found")
     before = set(base._REGISTRY)
-    mod_name = f"airwake_plugin_{p.stem}_{abs(hash(key)) & 0xFFFFFF:06x}"
+    # the same module name in every process (not Python's salted hash()): compiled kernels
+    # of a plugin are cached on disk with their types pickled by module name
+    digest = hashlib.sha256(key.encode()).hexdigest()[:8]
+    mod_name = f"airwake_plugin_{p.stem}_{digest}"
     spec = importlib.util.spec_from_file_location(mod_name, p)
     module = importlib.util.module_from_spec(spec)
     base._PLUGIN_SOURCE.append(key)
+    sys.modules[mod_name] = module
     try:
         spec.loader.exec_module(module)
     except EffectError as exc:
         _drop_new(before)
+        sys.modules.pop(mod_name, None)
         raise EffectError(f"plugin {path}: {exc}") from None
     except Exception as exc:  # noqa: BLE001 — any error in user code becomes one clear line
         _drop_new(before)
+        sys.modules.pop(mod_name, None)
         where = traceback.extract_tb(exc.__traceback__)[-1]
         raise EffectError(
             f"plugin {path} failed to import: {type(exc).__name__}: {exc} "
@@ -52,7 +59,6 @@ def load_plugin(path) -> list[str]:
         ) from None
     finally:
         base._PLUGIN_SOURCE.pop()
-    sys.modules[mod_name] = module
     names = [n for n in base._REGISTRY if n not in before]
     if not names:
         raise EffectError(f"plugin {path} registered no effect (use @register_effect)")
