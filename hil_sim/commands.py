@@ -62,6 +62,10 @@ def register(subparsers) -> None:
     lst.add_argument("--json", action="store_true")
     lst.set_defaults(func=_scenarios)
 
+    from hil_sim.boards.commands import register_run  # `sim run` (the SIL layer)
+
+    register_run(sub)
+
 
 def _table(args) -> int:
     import json

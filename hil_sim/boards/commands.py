@@ -1,0 +1,117 @@
+"""`airwake sim run`: a SIL flight through the native boards, ptys and the real daemon.
+
+    airwake sim run --scenario NAME_OR_FILE [--duration S] [--seed N] [--stepped | --wall]
+                    --out REC [--boards losa,marker,rover,base] [--json] [--quiet]
+
+Registered by `hil_sim/commands.py` (`register_run(sub)`); the work is `sil.SilRun`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+
+def register_run(sub) -> None:
+    from hil_sim.commands import add_scenario_arguments
+
+    p = sub.add_parser(
+        "run", help="a SIL flight: native firmware boards over ptys into the real daemon",
+        description="Fly a scenario in the truth world and feed its sensors to the native "
+        "firmware boards (build/native/<board>); each board's host UART is a pty under "
+        "REC/ports/ that the real daemon (a separate process) records into REC, exactly as "
+        "from serial adapters. Stepped mode (default) is deterministic and runs as fast as "
+        "the machine allows, the daemon on the simulator's clock; wall mode paces the "
+        "flight to real time. Faults come from the scenario's [faults] table. Prints where "
+        "the recording is, the real-time factor and the daemon's final link health; "
+        "REC/sil/run.json records the rig, what every link injected and the timing. "
+        "See docs/sil.md.")
+    add_scenario_arguments(p)
+    mode = p.add_mutually_exclusive_group()
+    mode.add_argument("--stepped", dest="mode", action="store_const", const="stepped",
+                      help="simulator-driven board clocks, as fast as possible (default)")
+    mode.add_argument("--wall", dest="mode", action="store_const", const="wall",
+                      help="steps paced to CLOCK_MONOTONIC (real time)")
+    p.set_defaults(mode="stepped")
+    p.add_argument("--out", required=True, metavar="REC", help="new recording directory")
+    p.add_argument("--boards", metavar="LIST",
+                   help="comma-separated boards (default: all four in a hall, rover,base "
+                   "outdoors)")
+    p.add_argument("--asan", action="store_true",
+                   help="run the ASan/UBSan builds (build/native-asan; slower)")
+    p.add_argument("--json", action="store_true", help="print the run summary as JSON")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from airwake.progress import Progress
+
+    from hil_sim.boards.rig import rig_for
+    from hil_sim.boards.sil import SilError, SilRun
+    from hil_sim.commands import load_scenario_from_args
+
+    scenario, seed, duration = load_scenario_from_args(args)
+    boards = None
+    if args.boards:
+        boards = tuple(b.strip() for b in args.boards.split(",") if b.strip())
+    try:
+        rig = rig_for(scenario, boards)
+    except ValueError as exc:
+        raise SilError(f"--boards {args.boards}: {exc}") from None
+    show = not (args.quiet or args.json)
+    run = SilRun(scenario, out=args.out, seed=seed, duration_s=duration, mode=args.mode,
+                 rig=rig, flavour="asan" if args.asan else "release",
+                 progress=Progress(f"sil {scenario.name} ({args.mode})", duration, unit=" s",
+                                   enabled=show),
+                 world_progress=Progress(f"truth world {scenario.name}", duration, unit=" s",
+                                         enabled=show))
+    result = run.run()
+    if run.progress is not None:
+        run.progress.finish()
+    if args.json:
+        print(json.dumps(result.summary, indent=1, default=str))
+    else:
+        print(format_report(result))
+    return 0 if result.daemon_exit == 0 else 1
+
+
+def format_report(result) -> str:
+    """Where the recording is, the real-time factor, and the daemon's final link health."""
+    s = result.summary
+    t = s["timing"]
+    cpu = s["cpu"]
+    lines = [f"recording: {result.out}  (export: airwake export {result.out} --out "
+             "FLIGHT.parquet)",
+             f"{s['duration_s']:g} s of {s['scenario']!r} (seed {s['seed']}, {s['mode']}) with "
+             f"{', '.join(s['boards'])}: real-time factor {t['realtime_factor']:.2f} "
+             f"({t['flight_wall_s']:.1f} s wall; truth world {t['world_s']:.1f} s, set-up "
+             f"{t['setup_s']:.1f} s)",
+             f"CPU over the flight: simulator {cpu['simulator_s']:.1f} s, daemon "
+             f"{cpu['daemon_s'] or 0:.1f} s, boards "
+             f"{sum(v or 0 for v in cpu['boards_s'].values()):.2f} s",
+             f"daemon exit status {result.daemon_exit}; run summary: {result.out}/sil/run.json"]
+    st = result.daemon_status or {}
+    for role, p in sorted(st.get("ports", {}).items()):
+        err = {k: v for k, v in p.get("errors", {}).items() if v}
+        lines.append(f"  port {role}: {p.get('frames', 0)} frames, {p.get('bytes', 0)} bytes, "
+                     f"opens {p.get('opens', 0)}, seq lost {p.get('seq_lost', 0)}, errors "
+                     f"{err or 'none'}")
+    for name, b in sorted(st.get("boards", {}).items()):
+        rates = ", ".join(f"{k} {v:.0f}" for k, v in sorted(b.get("rates_hz", {}).items())
+                          if v >= 1)
+        clock = b.get("clock") or {}
+        lines.append(f"  board {name}: boot {b.get('boot_count')}, epochs "
+                     f"{clock.get('epochs')}, drift {clock.get('drift_ppm', 0):+.1f} ppm; "
+                     f"Hz: {rates}")
+    injected = {k: v for k, v in s["faults"]["links"].items()
+                if v["bytes_lost"] or v["bits_flipped"] or v["bytes_cut"] or v["reset_cuts"]}
+    for name, v in injected.items():
+        lines.append(f"  injected on {name}: {v['bytes_lost']} bytes lost, {v['bits_flipped']} "
+                     f"bits flipped, {v['bytes_cut']} bytes cut by outages -> "
+                     f"{v['bad_segments']} bad segments, {v['frames_in'] - v['frames_intact']} "
+                     "frames not delivered intact")
+    for e in s["faults"]["events"]:
+        lines.append(f"  event: {json.dumps(e)}")
+    return "\n".join(lines)
+

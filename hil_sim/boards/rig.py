@@ -1,0 +1,134 @@
+"""The SIL rig: which boards fly, how they are wired and where the tracker stands.
+
+`rig_for(scenario)` gives the defaults for a scenario:
+
+- **Boards** by site: a hall (indoor) flight has all four — the LOSA tracker on the floor
+  watching the active marker on the helicopter, the rover on the helicopter and the
+  base with the RC receiver; field and ship flights have the rover and the base (no
+  tracker outdoors). `boards=` overrides (e.g. `sim run --boards rover,base`).
+- **Links** as on the Teensy builds (docs/firmware.md): host UARTs 460800 baud (LOSA,
+  marker, rover's XBee) / 921600 (base), VN200 921600, Piksi 115200, the base's rover
+  XBee port 460800. The rover reaches the host through the base: rover host port ->
+  base `rover` port, `xbee_latency_us` later. Boards facing the host (losa, marker,
+  base) get a pty each.
+- **Clocks**: each board's crystal has its own drift and boot offset (`--clock-drift-ppm`,
+  `--clock-offset-us`) so the daemon's clock mapping has something to find.
+- **Tracker and marker** (hall): the tracker stands `tracker_distance_m` (2.5 m) in front
+  of the pilot's start point (south of it, facing north), its centre `tracker_height_m`
+  (1.8 m) above the floor, level (its y axis down, as the flight-table builder's indoor
+  height assumes). The marker sits under the fuselage at `marker_position_body_m`,
+  turned (`marker_mount_quat_wxyz`, marker -> body) so that its LED 0 looks at the
+  tracker from the start point, as an operator would mount it: the LOSA's 5 % contrast
+  threshold needs a lit LED within ~3 m at the marker's 50 % calibration sweep.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hil_sim.sensors.losa import MARKER_LED_DIRECTIONS, LosaConfig
+
+SIL_BOARDS = ("losa", "marker", "rover", "base")
+HOST_FACING = ("losa", "marker", "base")  # boards with a host pty (the rover talks to the base)
+
+
+def _default_baud() -> dict:
+    return {"losa": 460800, "marker": 460800, "rover": 460800, "base": 921600}
+
+
+def _default_drift() -> dict:
+    return {"losa": 18.0, "marker": -27.0, "rover": 11.0, "base": -6.0}
+
+
+def _default_offset() -> dict:
+    return {"losa": 1_250_000, "marker": 40_000_000, "rover": 3_500_000, "base": 0}
+
+
+@dataclass(frozen=True)
+class SilRig:
+    """Everything about the SIL set-up that is not the truth world (module doc)."""
+
+    boards: tuple[str, ...] = SIL_BOARDS
+    step_us: int = 10_000
+    host_baud: dict = field(default_factory=_default_baud)
+    rover_link_baud: int = 460800  # the base's XBee port to the rover
+    xbee_latency_us: int = 2_000
+    clock_drift_ppm: dict = field(default_factory=_default_drift)
+    clock_offset_us: dict = field(default_factory=_default_offset)
+    tracker_position_ned_m: tuple[float, float, float] = (-3.5, 0.0, -1.5)
+    tracker_heading_deg: float = 0.0
+    tracker_tilt_deg: float = 0.0
+    marker_position_body_m: tuple[float, float, float] = (0.0, 0.0, 0.25)
+    marker_mount_quat_wxyz: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    losa_config: LosaConfig = field(default_factory=LosaConfig)
+    line_rate_hz: float = 1000.0
+    imu_rate_hz: float = 1000.0
+
+    def __post_init__(self) -> None:
+        for b in self.boards:
+            if b not in SIL_BOARDS:
+                raise ValueError(f"boards: unknown board {b!r}; expected some of "
+                                 f"{', '.join(SIL_BOARDS)}")
+        if not self.boards:
+            raise ValueError("boards: at least one board is needed")
+        if ("losa" in self.boards) != ("marker" in self.boards):
+            raise ValueError("boards: the LOSA tracker and the marker fly together "
+                             f"(got {', '.join(self.boards)})")
+        if "base" in self.boards and "rover" not in self.boards:
+            raise ValueError("boards: the base needs the rover (a flight table needs its INS)")
+        if not 1000 <= self.step_us <= 50_000:
+            raise ValueError(f"step_us = {self.step_us}: must be in [1000, 50000]")
+
+    @property
+    def host_boards(self) -> tuple[str, ...]:
+        """Boards whose host link is a pty the daemon opens (the rover goes via the base)."""
+        out = [b for b in self.boards if b in HOST_FACING]
+        if "rover" in self.boards and "base" not in self.boards:
+            out.append("rover")
+        return tuple(out)
+
+    @property
+    def tracker_height_m(self) -> float:
+        return -float(self.tracker_position_ned_m[2])
+
+    def replace(self, **changes) -> SilRig:
+        return dataclasses.replace(self, **changes)
+
+
+def rig_for(scenario, boards: tuple[str, ...] | None = None, *,
+            tracker_distance_m: float = 2.5, tracker_height_m: float = 1.8,
+            **changes) -> SilRig:
+    """The default rig of a scenario (module doc); `changes` override any field."""
+    site = scenario.site.type
+    if boards is None:
+        boards = SIL_BOARDS if site == "hall" else ("rover", "base")
+    start = np.asarray(scenario.pilot.start_m, dtype=float)
+    tracker = (float(start[0]) - tracker_distance_m, float(start[1]), -tracker_height_m)
+    rig = SilRig(boards=tuple(boards), tracker_position_ned_m=tracker)
+    if "marker_mount_quat_wxyz" not in changes:
+        yaw = math.radians(scenario.pilot.yaw_deg or 0.0)
+        changes["marker_mount_quat_wxyz"] = led_facing_mount(
+            start, yaw, np.asarray(rig.marker_position_body_m), np.asarray(tracker))
+    return rig.replace(**changes)
+
+
+def led_facing_mount(cg_ned_m: np.ndarray, yaw_rad: float, marker_body_m: np.ndarray,
+                     target_ned_m: np.ndarray, led: int = 0) -> tuple[float, ...]:
+    """Mount (marker -> body quaternion, wxyz) turning LED `led`'s axis toward a target,
+    for a level helicopter at `cg_ned_m` heading `yaw_rad`: the shortest rotation taking
+    the LED axis a onto the target direction u, q = normalise(1 + a.u, a x u)."""
+    c, s = math.cos(yaw_rad), math.sin(yaw_rad)
+    body_to_ned = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    marker = cg_ned_m + body_to_ned @ marker_body_m
+    u = body_to_ned.T @ (target_ned_m - marker)
+    u /= np.linalg.norm(u)
+    a = MARKER_LED_DIRECTIONS[led]
+    q = np.concatenate([[1.0 + a @ u], np.cross(a, u)])
+    if q[0] < 1e-9:  # opposite: any half turn about an axis normal to a
+        q = np.concatenate([[0.0], np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else
+                                            [0.0, 1.0, 0.0])])
+    return tuple(float(v) for v in q / np.linalg.norm(q))

@@ -1,0 +1,717 @@
+"""A SIL flight: native firmware boards fed by the truth world, ptys, the real daemon.
+
+    run = SilRun(load_scenario("still_air_calibration"), out="REC", duration_s=20)
+    result = run.run()                  # start(), step() until the end, finish()
+    result.realtime_factor, result.summary["links"], result.daemon_status
+
+What happens (docs/sil.md):
+
+1. The truth world flies the scenario (`hil_sim.world.run.run_scenario`); the sensor
+   streams it produces and the LOSA optics become sim-channel inputs per board
+   (`feeds.BoardFeeds`).
+2. Each board of the rig (`rig.SilRig`) is its native executable (`build/native/<board>`)
+   in stepped mode, its host port mapped to `sim` so that every byte it sends comes back
+   on the channel. The boards facing the host get a pty each (`links.PtyPort`), behind
+   `REC/ports/<board>`; the rover's bytes go to the base's `rover` port (the XBee link).
+3. The real daemon (`airwake daemon`, a separate process) records REC from those ptys.
+   In stepped mode it runs on the simulator's clock (`simclock`): its receive times,
+   and so the exported flight table, are on the flight's own timeline.
+4. Every step (`rig.step_us`, 10 ms) each board runs to the step's end with its inputs
+   (marker first: the LOSA lines of the step need the LED the marker lit), the bytes the
+   boards sent cross their link's `links.Impairment` (faults, counted exactly) to the
+   ptys, and the bytes the daemon wrote (time sync, marker commands) go back to the
+   boards at the next step. Stepped mode runs as fast as the machine allows; wall mode
+   paces every step to CLOCK_MONOTONIC (and the daemon keeps its own clock).
+5. `finish()` lets the daemon read everything, stops it with SIGINT (a clean, indexed
+   recording), stops the boards, and writes `REC/sil/run.json`: the rig, the clock
+   offset between host and simulator time, what every link injected, the fault events,
+   board boots, timing, CPU and the daemon's final link health.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from collections import defaultdict
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from airwake.errors import AirwakeError
+
+from hil_sim.boards.channel import REPO_ROOT, ChannelError, NativeBoard, executable
+from hil_sim.boards.feeds import BoardFeeds
+from hil_sim.boards.links import BASE_FORWARD_MAX, Impairment, PtyPort
+from hil_sim.boards.rig import SilRig, rig_for
+from hil_sim.boards.simclock import SimClock
+
+MODES = ("stepped", "wall")
+ORDER = ("marker", "losa", "rover", "base")  # marker first: its LEDs light the LOSA's step
+SIL_SEED_KEY = 0x5117  # spawn-key namespace of the SIL layer's random streams
+DAEMON_START_TIMEOUT_S = 60.0
+PORT_OPEN_TIMEOUT_S = 30.0
+DRAIN_TIMEOUT_S = 10.0
+WRITE_STALL_TIMEOUT_S = 20.0
+_TICK = os.sysconf("SC_CLK_TCK")
+
+
+class SilError(AirwakeError):
+    """A SIL run that cannot start or went wrong (what, and where to look)."""
+
+
+def _cpu_s(pid: int) -> float | None:
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return (int(fields[11]) + int(fields[12])) / _TICK
+
+
+def sil_rngs(seed: int) -> dict[str, np.random.Generator]:
+    """The SIL layer's random streams. The LOSA optics and the marker IMU take the
+    world's reserved streams (`hil_sim.world.run.RNG_STREAMS`); the rest come from a
+    spawn-key namespace of their own, so they never shift the world's."""
+    from hil_sim.world.run import RNG_STREAMS
+
+    world = np.random.SeedSequence(seed).spawn(len(RNG_STREAMS))
+    names = {"losa": "reserved_losa", "marker": "reserved_marker"}
+    out = {k: np.random.default_rng(world[RNG_STREAMS.index(v)]) for k, v in names.items()}
+    for i, name in enumerate(("losa_imu", "link_losa", "link_marker", "link_rover",
+                              "link_base")):
+        out[name] = np.random.default_rng(np.random.SeedSequence(seed,
+                                                                 spawn_key=(SIL_SEED_KEY, i)))
+    return out
+
+
+@dataclass
+class SilResult:
+    """What a finished run reports (also written to `REC/sil/run.json`)."""
+
+    out: Path
+    summary: dict
+    daemon_status: dict | None
+    daemon_exit: int | None
+
+    @property
+    def realtime_factor(self) -> float:
+        return self.summary["timing"]["realtime_factor"]
+
+
+@dataclass
+class _Outage:
+    """A timed link outage: a stall (pty kept) or an unplug (pty destroyed)."""
+
+    kind: str
+    board: str
+    start_us: int
+    end_us: int
+    state: str = "pending"  # pending, active, reopening, done
+    record: dict = field(default_factory=dict)
+
+
+class SilRun:
+    """One SIL flight (module doc). Drive it with `run()`, or `start()`, `step()` ...
+    `finish()` (tests use the steps to act mid-flight, e.g. `kill_daemon()`)."""
+
+    def __init__(self, scenario, *, out, seed: int | None = None,
+                 duration_s: float | None = None, mode: str = "stepped",
+                 rig: SilRig | None = None, faults=None, flavour: str = "release",
+                 log_frames: bool = False, keep_delivered: bool = False,
+                 progress=None, world_progress=None) -> None:
+        if mode not in MODES:
+            raise SilError(f"mode {mode!r}: expected one of {', '.join(MODES)}")
+        self.scenario = scenario
+        self.seed = scenario.seed if seed is None else int(seed)
+        self.duration_s = scenario.duration_s if duration_s is None else float(duration_s)
+        if not self.duration_s > 0:
+            raise SilError(f"duration {self.duration_s!r}: must be > 0")
+        self.out = Path(out)
+        self.mode = mode
+        self.rig = rig or rig_for(scenario)
+        self.faults = scenario.faults if faults is None else faults
+        self.flavour = flavour
+        self.log_frames = log_frames
+        self.keep_delivered = keep_delivered
+        self.progress = progress
+        self.world_progress = world_progress
+        self.t_us = 0
+        self.end_us = int(round(self.duration_s * 1e6))
+        self.boards: dict[str, NativeBoard] = {}
+        self.ptys: dict[str, PtyPort] = {}
+        self.links: dict[str, Impairment] = {}
+        self.daemon: subprocess.Popen | None = None
+        self.clock: SimClock | None = None
+        self.host_offset_ns = 0  # stepped: host time = host_offset_ns + simulator time
+        self.events: list[dict] = []
+        self.boots: list[dict] = []
+        self.host_rx: dict[str, bytearray] = defaultdict(bytearray)  # daemon -> board
+        self.host_rx_cut = defaultdict(int)
+        self.rover_rx: list[tuple[int, bytes]] = []  # base -> rover (host bytes relayed)
+        self.base_rover_rx: list[tuple[int, bytes]] = []  # rover -> base
+        self.timing: dict[str, float] = {}
+        self._tmp: Path | None = None
+        self._started = False
+        self._finished = False
+        self._daemon_dead = False
+        self._wall0 = 0.0
+        self._cpu_self0 = 0.0
+        self._cpu_daemon0 = 0.0
+        self._cpu_boards0: dict[str, float] = {}
+        self.daemon_cpu_s: float | None = None
+
+    # -- set-up ----------------------------------------------------------------------
+
+    def start(self) -> None:
+        """Fly the truth world, start the boards and the daemon, open the ptys."""
+        if self.out.exists() and (not self.out.is_dir() or any(self.out.iterdir())):
+            raise SilError(f"--out {self.out}: exists and is not an empty directory; "
+                           "choose a new recording directory")
+        t0 = time.perf_counter()
+        self._executables()
+        from hil_sim.world.run import build_config, run_scenario
+
+        self.world = run_scenario(self.scenario, seed=self.seed, duration_s=self.duration_s,
+                                  progress=self.world_progress)
+        self.timing["world_s"] = time.perf_counter() - t0
+        self.rngs = sil_rngs(self.seed)
+        self.feeds = BoardFeeds.build(self.world, self.rig, self.rngs)
+        self._build_links()
+        self._outages = self._schedule()
+        self._resets = sorted((int(round(e.at_s * 1e6)), e.board) for e in self.faults.resets
+                              if e.board in self.rig.boards)
+        self._tmp = Path(tempfile.mkdtemp(prefix="airwake-sil-"))
+        try:
+            self._start_boards()
+            self._start_daemon(build_config(self.world))
+            self._open_ports()
+        except BaseException:
+            self._abort()
+            raise
+        self.timing["setup_s"] = time.perf_counter() - t0
+        self._started = True
+        if self.clock is not None:
+            self.host_offset_ns = self.clock.hold()
+        else:
+            self.host_offset_ns = time.monotonic_ns()
+        self._wall0 = time.monotonic()
+        self._cpu_self0 = time.process_time()
+        self._cpu_daemon0 = _cpu_s(self.daemon.pid) or 0.0
+        self._cpu_boards0 = {n: _cpu_s(b.process.pid) or 0.0 for n, b in self.boards.items()}
+
+    def _executables(self) -> None:
+        missing = []
+        for b in self.rig.boards:
+            try:
+                executable(b, self.flavour)
+            except (subprocess.CalledProcessError, OSError) as exc:
+                missing.append(f"{b} ({exc})")
+        if missing:
+            raise SilError("the native board executables could not be built: "
+                           f"{'; '.join(missing)}; run `make native` and retry")
+
+    def _build_links(self) -> None:
+        boards = self.rig.boards
+        for b in boards:
+            lf = self.faults.link(b)
+            chained = b == "rover" and "base" in boards
+            self.links[b] = Impairment(
+                b, loss_probability=lf.byte_loss_probability,
+                flip_probability=lf.bit_flip_probability, rng=self.rngs[f"link_{b}"],
+                piece_max=BASE_FORWARD_MAX if chained else None, log_frames=self.log_frames)
+        if "rover" in self.links and "base" in self.links:
+            self.links["base"].upstream_bad = self.links["rover"].bad_out
+
+    def _schedule(self) -> list[_Outage]:
+        out = []
+        for kind, items in (("stall", self.faults.stalls), ("unplug", self.faults.unplugs)):
+            for e in items:
+                if e.board not in self.rig.boards:
+                    raise SilError(f"faults.{kind}s: board {e.board!r} is not in this run "
+                                   f"(boards: {', '.join(self.rig.boards)})")
+                start = int(round(e.at_s * 1e6))
+                out.append(_Outage(kind, e.board, start, start + int(round(e.duration_s * 1e6))))
+        for e in self.faults.resets:
+            if e.board not in self.rig.boards:
+                raise SilError(f"faults.resets: board {e.board!r} is not in this run "
+                               f"(boards: {', '.join(self.rig.boards)})")
+        return sorted(out, key=lambda o: o.start_us)
+
+    def _ports(self, board: str) -> dict[str, str]:
+        rig = self.rig
+        throttle = self.faults.link(board).throttle_baud
+        host = int(throttle) if throttle else rig.host_baud[board]
+        ports = {"host": f"sim@{host}"}
+        sensors = self.scenario.sensors
+        if board == "rover":
+            ports["ins"] = f"sim@{sensors.vn200.baud}"
+            ports["rtk"] = f"sim@{sensors.rtk.baud}"
+        elif board == "base":
+            ports["ins"] = f"sim@{sensors.base_vn200.baud}"
+            if "rover" in rig.boards:
+                ports["rover"] = f"sim@{rig.rover_link_baud}"
+        return ports
+
+    def _start_boards(self) -> None:
+        rig = self.rig
+        for b in rig.boards:
+            try:
+                self.boards[b] = NativeBoard(
+                    b, ports=self._ports(b), mode="stepped", flavour=self.flavour,
+                    clock_drift_ppm=rig.clock_drift_ppm.get(b, 0.0),
+                    clock_offset_us=rig.clock_offset_us.get(b, 0))
+            except ChannelError as exc:
+                raise SilError(f"board {b} did not start: {exc}") from None
+
+    def daemon_command(self, build_config) -> list[str]:
+        """The daemon's command line (ports, geometry for the export, metadata)."""
+        rig = self.rig
+        if self.mode == "stepped":
+            head = [sys.executable, "-m", "hil_sim.boards.simclock", "--clock",
+                    str(self._tmp / "clock"), "--"]
+        else:
+            head = [sys.executable, "-m", "airwake.cli"]
+        cmd = head + ["daemon", "--out", str(self.out), "--status-json",
+                      str(self._tmp / "status.json"), "--quiet"]
+        for b in rig.host_boards:
+            cmd += ["--port", f"{b}={self.out / 'ports' / b}@{rig.host_baud[b]}"]
+        origin = build_config.ned_origin_lla
+        if origin is not None:
+            cmd += ["--ned-origin", ",".join(repr(float(v)) for v in origin)]
+        if "rover" in rig.boards and self.scenario.rtk_enabled:
+            cmd += ["--rover-antenna-to-hub-m",
+                    ",".join(repr(float(v)) for v in build_config.rover_antenna_to_hub_frd_m),
+                    "--base-antenna-height-m",
+                    repr(float(build_config.base_antenna_height_above_deck_m))]
+        if "losa" in rig.boards:
+            cmd += ["--tracker-height-m", repr(rig.tracker_height_m)]
+        cmd += ["--meta", f"sil_scenario={self.scenario.name}", "--meta", f"sil_seed={self.seed}",
+                "--meta", f"sil_mode={self.mode}"]
+        return cmd
+
+    def _start_daemon(self, build_config) -> None:
+        if self.mode == "stepped":
+            self.clock = SimClock(self._tmp / "clock")
+        self._daemon_log = open(self._tmp / "daemon.log", "wb")  # noqa: SIM115
+        self.daemon = subprocess.Popen(self.daemon_command(build_config),
+                                       stdin=subprocess.DEVNULL, stdout=self._daemon_log,
+                                       stderr=subprocess.STDOUT, cwd=REPO_ROOT)
+        end = time.monotonic() + DAEMON_START_TIMEOUT_S
+        while not (self.out / "segment-0000.mcap").exists():
+            self._check_daemon("starting")
+            if time.monotonic() > end:
+                raise SilError(f"the daemon did not create {self.out} within "
+                               f"{DAEMON_START_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
+            time.sleep(0.02)
+
+    def _open_ports(self) -> None:
+        """One pty per host-facing board; wait until the daemon has opened each (it
+        writes a time-sync request as soon as it opens a port)."""
+        (self.out / "ports").mkdir()
+        for b in self.rig.host_boards:
+            self.ptys[b] = PtyPort(self.out / "ports" / b)
+            if self.keep_delivered:
+                self.ptys[b].keep = bytearray()
+        waiting = set(self.ptys)
+        end = time.monotonic() + PORT_OPEN_TIMEOUT_S
+        while waiting:
+            self._check_daemon("opening the ports")
+            for b in list(waiting):
+                data = self.ptys[b].receive()
+                if data:
+                    self.host_rx[b] += data
+                    waiting.discard(b)
+            if time.monotonic() > end:
+                raise SilError(f"the daemon did not open {', '.join(sorted(waiting))} within "
+                               f"{PORT_OPEN_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
+            time.sleep(0.005)
+
+    # -- the loop --------------------------------------------------------------------
+
+    @property
+    def done(self) -> bool:
+        return self.t_us >= self.end_us
+
+    def run(self) -> SilResult:
+        try:
+            if not self._started:
+                self.start()
+            while not self.done:
+                self.step()
+            return self.finish()
+        except BaseException:
+            self._abort()
+            raise
+
+    def step(self) -> None:
+        """Advance every board by one step and relay what crossed the links."""
+        t0 = self.t_us
+        t1 = min(t0 + self.rig.step_us, self.end_us)
+        self._outage_transitions(t0)
+        for name in ORDER:
+            board = self.boards.get(name)
+            if board is None:
+                continue
+            self.feeds.queue(name, board, t0, t1)
+            for t_reset, b in self._resets:
+                if b == name and t0 <= t_reset < t1:
+                    board.reset(t_reset)
+                    self.events.append({"kind": "reset", "board": b, "at_s": t_reset / 1e6})
+            self._host_input(name, board, t0, t1)
+            res = board.advance(t1)
+            if name == "marker" and self.feeds.losa_lines is not None:
+                self.feeds.losa_lines.led_events(res.pwm)
+            self._board_output(name, res)
+        self.t_us = t1
+        if self.clock is not None:
+            self.clock.set(self.host_offset_ns + t1 * 1000)
+        else:
+            lag = self._wall0 + t1 / 1e6 - time.monotonic()
+            if lag > 0:
+                time.sleep(lag)
+        self._deliver()
+        self._collect_host_bytes(t1)
+        if self.progress is not None:
+            self.progress.update(t1 / 1e6)
+
+    def _host_input(self, name: str, board: NativeBoard, t0: int, t1: int) -> None:
+        """Bytes for the board's host port (daemon via pty; the rover via the base) and
+        the base's rover port (the rover's bytes)."""
+        if name == "rover" and "base" in self.boards:
+            keep = []
+            for t, data in self.rover_rx:
+                if t < t1:
+                    board.uart(t, "host", data)
+                else:
+                    keep.append((t, data))
+            self.rover_rx = keep
+        elif self.host_rx.get(name):
+            board.uart(t0, "host", bytes(self.host_rx[name]))
+            self.host_rx[name].clear()
+        if name == "base":
+            keep = []
+            for t, data in self.base_rover_rx:
+                if t < t1:
+                    board.uart(t, "rover", data)
+                else:
+                    keep.append((t, data))
+            self.base_rover_rx = keep
+
+    def _board_output(self, name: str, res) -> None:
+        for t, cause, count in res.boots:
+            self.boots.append({"board": name, "t_s": t / 1e6, "cause": cause,
+                               "boot_count": count})
+        boots = sorted(t for t, cause, _ in res.boots if cause != "power_on" or t > 0)
+        link = self.links[name]
+        latency = self.rig.xbee_latency_us
+        # bytes for a pty leave at the step's end anyway: one chunk per port between
+        # reboots (the link sees the same byte stream in far fewer calls); bytes for the
+        # XBee link keep their times
+        merge = name in self.ptys
+        for t, port, data in _coalesce(res.uart_records, boots, link.cut_open_segment, merge):
+            if port == "host":
+                out = link.feed(data, t, self._outage(name, t))
+                if not out:
+                    continue
+                if name == "rover" and "base" in self.boards:
+                    self.base_rover_rx.append((t + latency, out))
+                elif name in self.ptys and not self._daemon_dead:
+                    self.ptys[name].send(out)
+            elif port == "rover" and name == "base":
+                if not self._outage("rover", t):
+                    self.rover_rx.append((t + latency, data))
+
+    def _outage(self, board: str, t_us: int) -> bool:
+        for o in self._outages:
+            if o.board == board and o.state in ("active", "reopening"):
+                return True
+        return False
+
+    def _outage_transitions(self, t0: int) -> None:
+        """Start and end stalls and unplugs at step boundaries."""
+        for o in self._outages:
+            if o.state == "pending" and t0 >= o.start_us:
+                o.state = "active"
+                o.record = {"kind": o.kind, "board": o.board, "at_s": t0 / 1e6,
+                            "planned_s": (o.end_us - o.start_us) / 1e6}
+                pty = self.ptys.get(o.board)
+                if o.kind == "unplug" and pty is not None:
+                    self._drain([pty])
+                    o.record["undelivered_bytes"] = pty.unread()
+                    pty.unplug()
+                self.events.append(o.record)
+            elif o.state == "active" and t0 >= o.end_us:
+                o.record["end_s"] = t0 / 1e6
+                pty = self.ptys.get(o.board)
+                if o.kind == "unplug" and pty is not None:
+                    pty.replug()
+                    o.state = "reopening"  # until the daemon has the new pty open
+                else:
+                    o.state = "done"
+            if o.state == "reopening":
+                pty = self.ptys[o.board]
+                data = pty.receive()
+                if data:  # the daemon opened it (its first write): deliver from now on
+                    o.state = "done"
+                    o.record["reopened_s"] = t0 / 1e6
+                    self.host_rx[o.board] += data
+
+    def _deliver(self) -> None:
+        """Write the step's bytes to the ptys; wait (wall time) while the daemon is
+        behind rather than drop anything."""
+        pending = [p for p in self.ptys.values() if p.flush()]
+        end = time.monotonic() + WRITE_STALL_TIMEOUT_S
+        while pending and not self._daemon_dead:
+            self._check_daemon("recording")
+            for p in pending:
+                p.wait_writable(0.01)
+            pending = [p for p in pending if p.flush()]
+            if time.monotonic() > end:
+                raise SilError(f"the daemon has not read its ports for {WRITE_STALL_TIMEOUT_S}"
+                               f" s: {self._daemon_tail()}")
+        if self._daemon_dead:
+            for p in self.ptys.values():
+                p.pending.clear()
+
+    def _collect_host_bytes(self, t1: int) -> None:
+        for b, pty in self.ptys.items():
+            data = pty.receive()
+            if not data:
+                continue
+            if self._outage(b, t1):
+                self.host_rx_cut[b] += len(data)
+            else:
+                self.host_rx[b] += data
+
+    def _drain(self, ptys, timeout_s: float = DRAIN_TIMEOUT_S) -> bool:
+        """Wait (wall time) until the daemon has read everything written to `ptys`."""
+        if self._daemon_dead or self.daemon is None:
+            return False
+        end = time.monotonic() + timeout_s
+        ok = True
+        while any(p.unread() for p in ptys):
+            for p in ptys:
+                p.flush()
+            if self.daemon.poll() is not None or time.monotonic() > end:
+                ok = False
+                break
+            time.sleep(0.002)
+        return ok
+
+    # -- faults from outside (tests) -------------------------------------------------
+
+    def kill_daemon(self, sig: int = signal.SIGKILL) -> int:
+        """Kill the daemon now (crash tests); returns CLOCK_MONOTONIC ns of the kill."""
+        t = time.monotonic_ns()
+        self.daemon.send_signal(sig)
+        self.daemon.wait(10)
+        self._daemon_dead = True
+        self.events.append({"kind": "daemon_killed", "signal": int(sig), "at_s": self.t_us / 1e6,
+                            "wall_ns": t})
+        return t
+
+    # -- the end ---------------------------------------------------------------------
+
+    def finish(self) -> SilResult:
+        """Drain, stop the daemon (SIGINT) and the boards, write REC/sil/run.json."""
+        if self._finished:
+            raise SilError("finish() called twice")
+        self._finished = True
+        wall = time.monotonic() - self._wall0
+        cpu_self = time.process_time() - self._cpu_self0
+        cpu_d = _cpu_s(self.daemon.pid) if self.daemon is not None else None
+        self.daemon_cpu_s = (round(cpu_d - self._cpu_daemon0, 3) if cpu_d is not None
+                             else None)
+        boards_cpu = {n: round((_cpu_s(b.process.pid) or 0.0) - self._cpu_boards0.get(n, 0.0), 3)
+                      for n, b in self.boards.items()}
+        if not self._daemon_dead:
+            self._check_daemon("recording")
+        drained = self._drain(list(p for p in self.ptys.values() if p.plugged))
+        if self.clock is not None:
+            self.clock.follow()
+        daemon_exit = self._stop_daemon()
+        board_exit = {}
+        for name, board in self.boards.items():
+            board_exit[name] = board.close()
+        self.boards.clear()
+        status = None
+        try:
+            status = json.loads((self._tmp / "status.json").read_text())
+        except (OSError, ValueError):
+            pass
+        for p in self.ptys.values():
+            p.close()
+        shutil.rmtree(self.out / "ports", ignore_errors=True)
+        sim_s = self.t_us / 1e6
+        summary = {
+            "format": "airwake-sil-run/1",
+            "scenario": self.scenario.name, "seed": self.seed, "mode": self.mode,
+            "duration_s": sim_s, "boards": list(self.rig.boards),
+            "host_ports": {b: str(self.out / "ports" / b) for b in self.ptys},
+            "rig": _rig_dict(self.rig),
+            "clock": {"host": "simulator" if self.mode == "stepped" else "CLOCK_MONOTONIC",
+                      "host_offset_ns": self.host_offset_ns,
+                      "note": "host time (ns) = host_offset_ns + simulator time (ns)"
+                              + ("" if self.mode == "stepped" else " + pacing lag")},
+            "faults": {"config": _faults_dict(self.faults),
+                       "links": {b: link.summary() for b, link in self.links.items()},
+                       "host_bytes_cut": dict(self.host_rx_cut),
+                       "events": self.events},
+            "boots": self.boots,
+            "timing": {"world_s": round(self.timing.get("world_s", 0.0), 3),
+                       "setup_s": round(self.timing.get("setup_s", 0.0), 3),
+                       "flight_wall_s": round(wall, 3),
+                       "realtime_factor": round(sim_s / wall, 3) if wall > 0 else None},
+            "cpu": {"simulator_s": round(cpu_self, 3),
+                    "daemon_s": self.daemon_cpu_s,
+                    "boards_s": boards_cpu,
+                    "daemon_fraction_of_wall": (round(self.daemon_cpu_s / wall, 3)
+                                                if self.daemon_cpu_s and wall > 0 else None)},
+            "drained": drained,
+            "daemon_exit": daemon_exit, "board_exit": board_exit,
+            "losa_lines": (self.feeds.losa_lines.lines_sent
+                           if self.feeds.losa_lines is not None else 0),
+            "daemon_status": status,
+        }
+        sil_dir = self.out / "sil"
+        sil_dir.mkdir(exist_ok=True)
+        (sil_dir / "run.json").write_text(json.dumps(summary, indent=1, default=_json_default))
+        shutil.copy(self._tmp / "daemon.log", sil_dir / "daemon.log")
+        if self.log_frames:
+            self._write_frame_logs(sil_dir)
+        self._cleanup_tmp()
+        return SilResult(self.out, summary, status, daemon_exit)
+
+    def _write_frame_logs(self, sil_dir: Path) -> None:
+        arrays = {}
+        for b, link in self.links.items():
+            if link.sent:
+                arrays[f"{b}_sent"] = np.array([(t, *i, int(tch)) for t, i, tch in link.sent],
+                                               dtype=np.int64)
+            if link.delivered:
+                arrays[f"{b}_delivered"] = np.array([(t, *i) for t, i in link.delivered],
+                                                    dtype=np.int64)
+        np.savez_compressed(sil_dir / "frames.npz", **arrays)
+
+    def _stop_daemon(self) -> int | None:
+        d = self.daemon
+        if d is None:
+            return None
+        if d.poll() is None:
+            d.send_signal(signal.SIGINT)
+            try:
+                d.wait(60)
+            except subprocess.TimeoutExpired:
+                d.kill()
+                d.wait()
+        self._daemon_log.close()
+        return d.returncode
+
+    def _check_daemon(self, what: str) -> None:
+        if self.daemon is not None and self.daemon.poll() is not None:
+            raise SilError(f"the daemon exited ({self.daemon.returncode}) while {what}: "
+                           f"{self._daemon_tail()}")
+
+    def _daemon_tail(self) -> str:
+        try:
+            text = (self._tmp / "daemon.log").read_text(errors="replace").strip()
+        except (OSError, TypeError):
+            return "(no daemon log)"
+        return text[-1500:] or "(empty daemon log)"
+
+    def _abort(self) -> None:
+        """Stop everything after an error (no sidecar)."""
+        if self._finished:
+            return
+        self._finished = True
+        if self.daemon is not None and self.daemon.poll() is None:
+            self.daemon.kill()
+            self.daemon.wait()
+        for board in self.boards.values():
+            try:
+                board.close()
+            except Exception:  # noqa: BLE001 — best effort while unwinding
+                pass
+        for p in self.ptys.values():
+            p.close()
+        if self.out.exists():
+            shutil.rmtree(self.out / "ports", ignore_errors=True)
+        if self._tmp is not None and (self._tmp / "daemon.log").exists() and self.out.exists():
+            try:
+                (self.out / "sil").mkdir(exist_ok=True)
+                shutil.copy(self._tmp / "daemon.log", self.out / "sil" / "daemon.log")
+            except OSError:
+                pass
+        self._cleanup_tmp()
+
+    def _cleanup_tmp(self) -> None:
+        if self.clock is not None:
+            self.clock.close()
+            self.clock = None
+        if getattr(self, "_daemon_log", None) is not None and not self._daemon_log.closed:
+            self._daemon_log.close()
+        if self._tmp is not None:
+            shutil.rmtree(self._tmp, ignore_errors=True)
+            self._tmp = None
+
+    def __enter__(self) -> SilRun:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._abort()
+
+
+def _coalesce(records, boots: list[int], on_boot, merge: bool = True):
+    """(t, port, bytes) records -> (with `merge`) one chunk per port (time of its first
+    record) between reboots; `on_boot()` is called at each reboot, after the bytes sent
+    before it."""
+    chunks: dict[str, list] = {}
+    b = 0
+    for t, port, data in records:
+        if b < len(boots) and boots[b] <= t:
+            yield from ((c[0], p, b"".join(c[1])) for p, c in chunks.items())
+            chunks = {}
+            while b < len(boots) and boots[b] <= t:
+                on_boot()
+                b += 1
+        if not merge:
+            yield t, port, data
+            continue
+        c = chunks.get(port)
+        if c is None:
+            chunks[port] = (t, [data])
+        else:
+            c[1].append(data)
+    yield from ((c[0], p, b"".join(c[1])) for p, c in chunks.items())
+    while b < len(boots):
+        on_boot()
+        b += 1
+
+
+def _rig_dict(rig: SilRig) -> dict:
+    from hil_sim.sensors.config import config_to_dict
+
+    d = {k: v for k, v in rig.__dict__.items() if k != "losa_config"}
+    d["losa_config"] = config_to_dict(rig.losa_config)
+    return d
+
+
+def _faults_dict(faults) -> dict:
+    from hil_sim.sensors.config import config_to_dict
+
+    return config_to_dict(faults)
+
+
+def _json_default(obj):
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    return str(obj)
