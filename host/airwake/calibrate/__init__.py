@@ -1,0 +1,107 @@
+"""Calibration of the helicopter model's parameters against a still-air flight
+(reference §5.3): the reference's particle swarm (eq 5.16) and a fast equation-error
+least-squares fit, both on the same residuals (docs/calibration.md).
+
+    from airwake.calibrate import calibrate, write_spec
+    result = calibrate("flight.parquet", model="table51", method="lsq")
+    result.rms_before, result.rms_after          # (6,) per channel
+    result.names, result.values, result.std      # free parameters, fit, 1-sigma
+    result.notes                                 # identifiability report
+    write_spec(result.model, "fitted.toml")      # atomic (temp file + rename)
+
+Model-generated flights for tests and benches: `airwake.calibrate.synthetic`.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from airwake.calibrate.errors import CalibrationError
+from airwake.calibrate.fit import FitResult
+
+__all__ = ["CalibrationError", "FitResult", "calibrate", "load_model", "load_flight",
+           "write_spec"]
+
+
+def load_model(spec):
+    """A HeliModel from a spec path or shipped name, a HeliModel passes through."""
+    from airwake.heli import HeliModel, load_spec
+
+    return spec if isinstance(spec, HeliModel) else load_spec(spec)
+
+
+def load_flight(flight):
+    """A FlightTable from a path; tables and DataFrames pass through."""
+    if isinstance(flight, (str, os.PathLike)):
+        from airwake.record.flight_table import load_flight_table
+
+        return load_flight_table(flight)
+    return flight
+
+
+def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
+              window_s: float = 2.0, warmup_s: float = 1.0, max_windows: int | None = None,
+              seed: int = 0, particles: int = 2000, iterations: int = 500,
+              pso_windows: int | None = 16, spread: float = 0.5, max_nfev: int = 60,
+              channel_scale=None, progress: bool = False) -> FitResult:
+    """Fit the model's free parameters to a flight (see docs/calibration.md).
+
+    params: None (every non-fixed parameter) or names/globs. max_windows: use an evenly
+    spaced subset of that many windows (None = the whole flight). The seed drives the
+    PSO (initial swarm, r1/r2, the window subset) and nothing else."""
+    from airwake.calibrate.params import select_parameters
+    from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
+    from airwake.progress import Progress
+
+    if method not in ("lsq", "pso"):
+        raise CalibrationError(f"unknown method {method!r}; use 'lsq' or 'pso'")
+    model = load_model(model)
+    ft = load_flight(flight)
+    free = select_parameters(model, params)
+    if not free.any():
+        raise CalibrationError("no free parameter to fit (every selected one is fixed)")
+    data = FlightData.from_flight(model, ft, channel_scale=channel_scale)
+    windows = make_windows(data, window_s, warmup_s)
+    if max_windows is not None and max_windows < windows.n_windows:
+        pick = np.unique(np.linspace(0, windows.n_windows - 1, max_windows).round().astype(int))
+        windows = windows.subset(pick)
+    pred = WindowedPredictor(model, data, windows)
+    if method == "lsq":
+        from airwake.calibrate.lsq import fit_lsq
+
+        bar = Progress("calibrate lsq", max_nfev, " evaluations", enabled=progress)
+        result = fit_lsq(model, pred, free, max_nfev=max_nfev, progress=bar)
+    else:
+        from airwake.calibrate.pso import fit_pso
+
+        bar = Progress("calibrate pso", iterations, " iterations", enabled=progress)
+        result = fit_pso(model, pred, free, np.random.default_rng(seed), particles,
+                         iterations, pso_windows, spread, progress=bar)
+    bar.finish(f"rms {np.sqrt(np.mean(result.rms_after ** 2)):.4g}")
+    result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
+                       scored_samples=int(windows.n_scored), seed=int(seed))
+    return result
+
+
+def write_spec(model, path, description: str = "") -> Path:
+    """save_spec to a temporary file in the target directory, then rename: a failed or
+    interrupted write never leaves a half-written spec."""
+    from airwake.heli import save_spec
+
+    p = Path(path)
+    if not p.parent.is_dir():
+        raise CalibrationError(f"cannot write {p}: directory {p.parent} does not exist")
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}-", suffix=".toml", dir=p.parent)
+    os.close(fd)
+    try:
+        save_spec(model, tmp, name=p.stem, description=description)
+        # save_spec resolves plugin paths relative to the file: same directory, same paths
+        os.replace(tmp, p)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return p

@@ -1,0 +1,100 @@
+"""`airwake calibrate FLIGHT [--model SPEC] [--method lsq|pso] [--params ...] --out SPEC`."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+
+def _fmt(v: float) -> str:
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "-"
+    if isinstance(v, float) and math.isinf(v):
+        return "inf"
+    return f"{v:.6g}"
+
+
+def print_report(result, out_path, stream=None) -> None:
+    from airwake.heli.context import MEAS_CHANNELS
+
+    info = result.info
+    w = (stream or sys.stdout).write
+    w(f"calibrate {result.method}: {info.get('samples')} samples, {info.get('windows')} "
+      f"windows ({info.get('scored_samples')} scored), {len(result.names)} free parameters, "
+      f"{result.seconds:.1f} s\n\n")
+    w(f"{'channel':<14}{'noise scale':>12}{'rms before':>12}{'rms after':>12}\n")
+    for c, s, b, a in zip(MEAS_CHANNELS, result.noise_scale, result.rms_before,
+                          result.rms_after, strict=True):
+        w(f"{c:<14}{s:>12.4g}{b:>12.4g}{a:>12.4g}\n")
+    rb = math.sqrt(sum(v * v for v in result.rms_before) / 6)
+    ra = math.sqrt(sum(v * v for v in result.rms_after) / 6)
+    w(f"{'all (rms)':<14}{'':>12}{rb:>12.4g}{ra:>12.4g}\n\n")
+    width = max(len(n) for n in result.names)
+    w(f"{'parameter':<{width}}  {'start':>11}  {'fitted':>11}  {'1-sigma':>10}\n")
+    for n, s, v, d, b, i in zip(result.names, result.start, result.values, result.std,
+                                result.at_bound, result.identifiable, strict=True):
+        flag = " at bound" if b else ("" if i else " (poorly identified)")
+        w(f"{n:<{width}}  {s:>11.5g}  {v:>11.5g}  {_fmt(float(d)):>10}{flag}\n")
+    if result.notes:
+        w("\nidentifiability:\n")
+        for note in result.notes:
+            w(f"  - {note}\n")
+    if out_path:
+        w(f"\nwrote {out_path}\n")
+
+
+def _handle(args: argparse.Namespace) -> int:
+    from airwake.calibrate import calibrate, write_spec
+
+    result = calibrate(
+        args.flight, model=args.model, method=args.method, params=args.params,
+        window_s=args.window_s, warmup_s=args.warmup_s, max_windows=args.max_windows,
+        seed=args.seed, particles=args.particles, iterations=args.iterations,
+        pso_windows=args.pso_windows or None, max_nfev=args.max_nfev,
+        channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress)
+    desc = (f"calibrated by airwake calibrate --method {args.method} from {args.flight} "
+            f"(start {args.model})")
+    path = write_spec(result.model, args.out, desc)
+    if args.json:
+        print(json.dumps({**result.to_dict(), "spec": str(path)}, indent=2))
+    else:
+        print_report(result, path)
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "calibrate", help="fit the helicopter model's parameters to a still-air flight",
+        description="Fit the model's free parameters to a flight table by one-step-ahead "
+        "(equation-error) least squares (--method lsq, default, fast) or the reference's "
+        "particle swarm (--method pso, eq 5.16). Prints per-channel RMS before/after, "
+        "fitted values with 1-sigma uncertainty and an identifiability report, and writes "
+        "the fitted model spec (docs/calibration.md).")
+    p.add_argument("flight", metavar="FLIGHT", help="flight table (.parquet or .csv)")
+    p.add_argument("--model", default="table51",
+                   help="starting model spec (path or shipped name; default table51)")
+    p.add_argument("--method", choices=("lsq", "pso"), default="lsq")
+    p.add_argument("--params", nargs="+", metavar="NAME",
+                   help="parameters to fit: names or globs ('main_rotor.*'); default: every "
+                   "parameter not marked fixed")
+    p.add_argument("--out", required=True, metavar="SPEC", help="fitted model spec to write")
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.add_argument("--seed", type=int, default=0, help="PSO random seed (default 0)")
+    p.add_argument("--particles", type=int, default=2000, help="PSO swarm size (2000)")
+    p.add_argument("--iterations", type=int, default=500, help="PSO iterations (500)")
+    p.add_argument("--pso-windows", type=int, default=16,
+                   help="PSO: windows of the flight scored per iteration (16; 0 = all)")
+    p.add_argument("--max-nfev", type=int, default=60,
+                   help="least squares: max residual evaluations (60)")
+    p.add_argument("--window-s", type=float, default=2.0, help="scored window length (2 s)")
+    p.add_argument("--warmup-s", type=float, default=1.0,
+                   help="rotor-state warm-up before each window (1 s)")
+    p.add_argument("--max-windows", type=int, default=None,
+                   help="fit on an evenly spaced subset of this many windows")
+    p.add_argument("--channel-scale", type=float, nargs=6, metavar="S",
+                   help="per-channel noise scales (acc x/y/z m/s^2, pdot/qdot/rdot rad/s^2); "
+                   "default: estimated from the data")
+    p.add_argument("--progress", action="store_true", help="progress lines even when piped")
+    p.set_defaults(func=_handle)

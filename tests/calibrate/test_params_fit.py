@@ -1,0 +1,67 @@
+"""Parameter selection and the uncertainty / identifiability analysis."""
+
+import numpy as np
+import pytest
+from airwake.calibrate.errors import CalibrationError
+from airwake.calibrate.fit import identifiability_notes, uncertainty
+from airwake.calibrate.params import select_parameters
+from airwake.heli import load_spec
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_spec("table51")
+
+
+def test_default_selection_is_every_non_fixed_parameter(model):
+    free = select_parameters(model)
+    np.testing.assert_array_equal(free, ~model.fixed_mask())
+
+
+def test_globs_select_by_effect_and_named_fixed_parameters_are_freed(model):
+    names = np.array(model.parameter_names)
+    sel = names[select_parameters(model, ["main_rotor.*"])]
+    assert all(n.startswith("main_rotor.") for n in sel)
+    assert "main_rotor.rotation" not in sel  # discrete: never fitted
+    assert "main_rotor.radius_m" in sel  # fixed by default, but the user asked for it
+    sel = names[select_parameters(model, ["flybar.c1,flybar.c2"])]
+    assert list(sel) == ["flybar.c1", "flybar.c2"]
+
+
+def test_unknown_parameter_is_an_error_naming_the_known_ones(model):
+    with pytest.raises(CalibrationError, match="main_rotor.lock_number"):
+        select_parameters(model, ["main_rotor.lok_number"])
+    with pytest.raises(CalibrationError, match="discrete"):
+        select_parameters(model, ["main_rotor.rotation"])
+
+
+def test_uncertainty_of_a_linear_fit_is_the_textbook_covariance():
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(500, 3))
+    r = rng.normal(size=500) * 0.7
+    unc = uncertainty(x, r, ["a", "b", "c"], np.ones(3))
+    s2 = r @ r / (500 - 3)
+    cov = s2 * np.linalg.inv(x.T @ x)
+    np.testing.assert_allclose(unc.std, np.sqrt(np.diag(cov)), rtol=1e-10)
+    np.testing.assert_allclose(unc.sigma2, s2)
+
+
+def test_a_parameter_the_residuals_ignore_is_reported_unidentifiable():
+    # hiding an unidentifiable parameter behind a finite number would be a lie
+    rng = np.random.default_rng(0)
+    jac = rng.normal(size=(200, 3))
+    jac[:, 2] = 0.0
+    unc = uncertainty(jac, rng.normal(size=200), ["a", "b", "c"], np.ones(3))
+    assert np.isinf(unc.std[2]) and np.all(np.isfinite(unc.std[:2]))
+    notes, ident = identifiability_notes(["a", "b", "c"], np.ones(3), unc, np.zeros(3, bool))
+    assert list(ident) == [True, True, False]
+    assert any(n.startswith("c: not identifiable") for n in notes)
+
+
+def test_strongly_correlated_pair_is_named():
+    rng = np.random.default_rng(0)
+    col = rng.normal(size=300)
+    jac = np.column_stack([col, col + 1e-3 * rng.normal(size=300), rng.normal(size=300)])
+    unc = uncertainty(jac, 0.1 * rng.normal(size=300), ["a", "b", "c"], np.ones(3))
+    notes, _ = identifiability_notes(["a", "b", "c"], np.ones(3), unc, np.zeros(3, bool))
+    assert any("a and b strongly correlated" in n for n in notes)
