@@ -15,9 +15,10 @@
 
 The LOSA lines are `LosaOptics.line_inputs` of the marker pose and of the LED the marker
 board lights (its PWM outputs) in the same step: the optical loop is closed through the
-firmware. UART bytes arrive as the real UART delivers them: a device's chunk is cut into pieces
-of at most ~1 ms of line time, each given to the board when its last byte has arrived
-at the device's baud rate. Edges and IMU samples are applied at their instants (µs).
+firmware. UART bytes arrive as the real UART delivers them: a device's packet is cut
+into its first byte and pieces of at most ~1 ms of line time, each given to the board
+when its last byte has arrived at the device's baud rate. Edges and IMU samples are
+applied at their instants (µs).
 """
 
 from __future__ import annotations
@@ -70,8 +71,10 @@ class UartFeed(_Cursor):
         offs = stream.offsets
         for k in range(len(stream)):
             a, b = int(offs[k]), int(offs[k + 1])
-            for p in range(a, b, per_piece):
-                q = min(b, p + per_piece)
+            # the first byte alone (the parsers stamp a packet with its first byte's
+            # arrival), then pieces of <= ~1 ms
+            cuts = [a, *range(a + 1, b, per_piece), b] if b > a + 1 else [a, b]
+            for p, q in zip(cuts[:-1], cuts[1:], strict=True):
                 times.append(stream.t_s[k] + (q - a) * byte_s)  # last byte of the piece in
                 starts.append(p)
                 ends.append(q)
@@ -122,26 +125,37 @@ class ImuFeed(_Cursor):
 
 
 class LosaLineFeed:
-    """TSL1401 irradiance for the LOSA board, computed online each step from the marker's
-    pose (truth, in the tracker frame) and the LED the marker board lights right now.
+    """TSL1401 irradiance for the LOSA board, computed online from the marker's pose
+    (truth, in the tracker frame) and the LED the marker board lights right now.
 
     The marker board drives its four LEDs by PWM (`PWM` records: led0..led3, duty
     0..65535, only one lit). `led_events()` takes them as they come back from the
-    marker's step; `queue()` then sends `LINE` records for every array at the update
+    marker's step; `queue()` then sends `LINE` records for every array on the update
     grid (`rig.line_rate_hz`) and at every LED change, so the LOSA sees the marker's
-    light with no delay, as the hardware would.
+    light change at the instant the marker changed it, as the hardware would.
+
+    `LosaOptics.line_inputs` costs ~1 ms per call whatever its length, so the lines are
+    computed `lookahead_us` ahead for the LED state of the moment and recomputed from
+    the instant of any change: one call per LED change or per look-ahead, instead of
+    one per step.
     """
 
     def __init__(self, optics: LosaOptics, t_s: np.ndarray, marker_pos_t_m: np.ndarray,
-                 marker_quat_wxyz: np.ndarray, rate_hz: float) -> None:
+                 marker_quat_wxyz: np.ndarray, rate_hz: float,
+                 lookahead_us: int = 50_000) -> None:
         self.optics = optics
         self._t_us = _us(t_s)
         self._pos = marker_pos_t_m
         self._quat = marker_quat_wxyz
         self.period_us = int(round(1e6 / rate_hz))
+        self.lookahead_us = int(lookahead_us)
         self.duty = np.zeros(4, dtype=np.int64)
         self._events: list[tuple[int, int, int]] = []  # (t_us, led, duty)
+        self._state = (0, 0.0)  # (lit LED, drive 0..1) the buffer was computed for
+        self._buf: list[tuple[int, np.ndarray, np.ndarray]] = []  # (t_us, rate, dark)
+        self._end = 0  # the buffer covers times < _end
         self.lines_sent = 0
+        self.optics_calls = 0
 
     def led_events(self, pwm: list[tuple[int, str, int]]) -> None:
         for t, ch, duty in pwm:
@@ -156,34 +170,48 @@ class LosaLineFeed:
         q = self._quat[k] * (1 - f) + self._quat[k + 1] * f
         return pos, q / np.linalg.norm(q, axis=1, keepdims=True)
 
+    def _compute(self, t_start: int) -> None:
+        """Lines from t_start (itself, then the grid) for `lookahead_us`, current state."""
+        period = self.period_us
+        first = (t_start // period + 1) * period
+        end = -(-(t_start + self.lookahead_us) // period) * period  # on the grid
+        times = np.array([t_start, *range(first, end, period)], dtype=np.int64)
+        pos, quat = self._pose(times)
+        led, drive = self._state
+        lines = self.optics.line_inputs(times / 1e6, pos, quat, led, drive)
+        self.optics_calls += 1
+        rate, dark = lines.rate_counts_per_us, lines.dark_counts
+        self._buf.extend((int(t), rate[i], dark[i]) for i, t in enumerate(times))
+        self._end = end
+
     def queue(self, board: NativeBoard, t0_us: int, t1_us: int) -> None:
         events = sorted(e for e in self._events if e[0] < t1_us)
         self._events = [e for e in self._events if e[0] >= t1_us]
-        first = -(-t0_us // self.period_us) * self.period_us
-        grid = list(range(first, t1_us, self.period_us))
-        times = sorted(set(grid) | {max(t0_us, e[0]) for e in events})
-        if not times:
-            return
-        led = np.empty(len(times), dtype=np.int64)
-        drive = np.empty(len(times))
-        e = 0
-        for i, t in enumerate(times):
-            while e < len(events) and events[e][0] <= t:
-                self.duty[events[e][1]] = events[e][2]
-                e += 1
+        i = 0
+        while i < len(events):
+            te = max(t0_us, events[i][0])
+            while i < len(events) and max(t0_us, events[i][0]) == te:
+                self.duty[events[i][1]] = events[i][2]
+                i += 1
             k = int(np.argmax(self.duty))
-            led[i] = k
-            drive[i] = self.duty[k] / 65535.0
-        for ev in events[e:]:
-            self.duty[ev[1]] = ev[2]
-        t_arr = np.asarray(times, dtype=np.int64)
-        pos, quat = self._pose(t_arr)
-        lines = self.optics.line_inputs(t_arr / 1e6, pos, quat, led, drive)
-        rate, dark = lines.rate_counts_per_us, lines.dark_counts
-        for i, t in enumerate(times):
+            state = (k, self.duty[k] / 65535.0)
+            if state != self._state:
+                self._state = state
+                self._buf = [b for b in self._buf if b[0] < te]
+                self._compute(te)
+        if not self._buf and self._end < t0_us:
+            self._end = t0_us
+        while self._end < t1_us:
+            self._compute(self._end)
+        sent = 0
+        for t, rate, dark in self._buf:
+            if t >= t1_us:
+                break
             for s in range(4):
-                board.line(t, s, rate[i, s], dark[i, s])
-        self.lines_sent += 4 * len(times)
+                board.line(t, s, rate[s], dark[s])
+            sent += 1
+        del self._buf[:sent]
+        self.lines_sent += 4 * sent
 
 
 # ---------------------------------------------------------------------------

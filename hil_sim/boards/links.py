@@ -425,11 +425,12 @@ class PtyPort:
         return b"".join(chunks)
 
     def unread(self) -> int:
-        """Bytes written but not yet read by the host (the slave's input queue)."""
+        """Bytes written to the pty that the host has not read yet (the slave's input
+        queue; `pending` bytes are not written yet)."""
         if not self.plugged:
             return 0
         buf = fcntl.ioctl(self.slave, termios.FIONREAD, b"\0\0\0\0")
-        return struct.unpack("i", buf)[0] + len(self.pending)
+        return struct.unpack("i", buf)[0]
 
     def close(self) -> None:
         self.unplug()

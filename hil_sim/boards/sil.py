@@ -58,11 +58,21 @@ DAEMON_START_TIMEOUT_S = 60.0
 PORT_OPEN_TIMEOUT_S = 30.0
 DRAIN_TIMEOUT_S = 10.0
 WRITE_STALL_TIMEOUT_S = 20.0
+STEPPED_POLL_MS = 1.0
 _TICK = os.sysconf("SC_CLK_TCK")
 
 
 class SilError(AirwakeError):
     """A SIL run that cannot start or went wrong (what, and where to look)."""
+
+
+def _rchar(pid: int) -> int | None:
+    """Bytes the process has read with read(2) and friends (/proc/PID/io)."""
+    try:
+        with open(f"/proc/{pid}/io", "rb") as f:
+            return int(f.readline().split()[1])
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 def _cpu_s(pid: int) -> float | None:
@@ -162,6 +172,7 @@ class SilRun:
         self._wall0 = 0.0
         self._cpu_self0 = 0.0
         self._cpu_daemon0 = 0.0
+        self._rchar0 = 0
         self._cpu_boards0: dict[str, float] = {}
         self.daemon_cpu_s: float | None = None
 
@@ -202,6 +213,8 @@ class SilRun:
         self._wall0 = time.monotonic()
         self._cpu_self0 = time.process_time()
         self._cpu_daemon0 = _cpu_s(self.daemon.pid) or 0.0
+        self._rchar0 = (_rchar(self.daemon.pid) or 0) - sum(p.bytes_written
+                                                            for p in self.ptys.values())
         self._cpu_boards0 = {n: _cpu_s(b.process.pid) or 0.0 for n, b in self.boards.items()}
 
     def _executables(self) -> None:
@@ -278,6 +291,11 @@ class SilRun:
             head = [sys.executable, "-m", "airwake.cli"]
         cmd = head + ["daemon", "--out", str(self.out), "--status-json",
                       str(self._tmp / "status.json"), "--quiet"]
+        if self.mode == "stepped":
+            # the daemon sleeps the rest of its poll period while the clock stands still
+            # (the simulator waits for it to read a step): a short period keeps that wait
+            # short; when the simulator runs ahead, the daemon does not sleep at all
+            cmd += ["--poll-ms", str(STEPPED_POLL_MS)]
         for b in rig.host_boards:
             cmd += ["--port", f"{b}={self.out / 'ports' / b}@{rig.host_baud[b]}"]
         origin = build_config.ned_origin_lla
@@ -349,9 +367,17 @@ class SilRun:
             raise
 
     def step(self) -> None:
-        """Advance every board by one step and relay what crossed the links."""
+        """Advance every board by one step and relay what crossed the links.
+
+        Stepped mode keeps the daemon in lockstep with one step of slack: the bytes of
+        step k are written when the host clock reads the end of step k, and the clock
+        moves on only after the daemon has read them. So every frame is received at the
+        end of the step it was sent in (delay 0-10 ms, as on a link that delivers in
+        10 ms bursts) whatever the machine's load, and the host's own bytes reach the
+        boards at the clock value they were stamped with."""
         t0 = self.t_us
         t1 = min(t0 + self.rig.step_us, self.end_us)
+        self._collect_host_bytes(t0)
         self._outage_transitions(t0)
         for name in ORDER:
             board = self.boards.get(name)
@@ -369,15 +395,54 @@ class SilRun:
             self._board_output(name, res)
         self.t_us = t1
         if self.clock is not None:
+            self._wait_host_read()
+            self._collect_host_bytes(t0)
             self.clock.set(self.host_offset_ns + t1 * 1000)
         else:
             lag = self._wall0 + t1 / 1e6 - time.monotonic()
             if lag > 0:
                 time.sleep(lag)
         self._deliver()
-        self._collect_host_bytes(t1)
         if self.progress is not None:
             self.progress.update(t1 / 1e6)
+
+    def _wait_host_read(self) -> None:
+        """Wait (wall time) until the daemon has read every byte written to the ptys.
+
+        A pty hands written bytes to the reader's line discipline asynchronously, so an
+        empty input queue (FIONREAD) does not prove that the daemon read them; the
+        daemon's own read counter (`rchar` of /proc/PID/io: its reads are the ports'
+        bytes) does. If the two disagree for long (bytes a lost port discarded), the
+        queue is trusted and the counter re-based."""
+        if self._daemon_dead:
+            return
+        written = sum(p.bytes_written for p in self.ptys.values())
+        target = self._rchar0 + written
+        if _rchar(self.daemon.pid) >= target:
+            return
+        ptys = [p for p in self.ptys.values() if p.plugged]
+        t_start = time.monotonic()
+        empty_since = None
+        end = t_start + WRITE_STALL_TIMEOUT_S
+        while True:
+            got = _rchar(self.daemon.pid)
+            if got is None or got >= target:
+                break
+            now = time.monotonic()
+            if any(p.unread() for p in ptys):
+                empty_since = None
+            elif empty_since is None:
+                empty_since = now
+            elif now - empty_since > 0.05:  # nothing queued for 50 ms: trust the queue
+                self._rchar0 += got - target
+                break
+            if now > end:
+                raise SilError(f"the daemon has not read its ports for "
+                               f"{WRITE_STALL_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
+            self._check_daemon("recording")
+            time.sleep(0.0001)
+        self.timing["host_wait_s"] = self.timing.get("host_wait_s", 0.0) + (
+            time.monotonic() - t_start)
 
     def _host_input(self, name: str, board: NativeBoard, t0: int, t1: int) -> None:
         """Bytes for the board's host port (daemon via pty; the rover via the base) and
@@ -478,12 +543,14 @@ class SilRun:
             for p in self.ptys.values():
                 p.pending.clear()
 
-    def _collect_host_bytes(self, t1: int) -> None:
+    def _collect_host_bytes(self, t_us: int) -> None:
+        """What the daemon wrote (stamped with the host clock now at t_us): delivered to
+        the boards at the start of the coming step."""
         for b, pty in self.ptys.items():
             data = pty.receive()
             if not data:
                 continue
-            if self._outage(b, t1):
+            if self._outage(b, t_us):
                 self.host_rx_cut[b] += len(data)
             else:
                 self.host_rx[b] += data
@@ -494,7 +561,7 @@ class SilRun:
             return False
         end = time.monotonic() + timeout_s
         ok = True
-        while any(p.unread() for p in ptys):
+        while any(p.unread() or p.pending for p in ptys):
             for p in ptys:
                 p.flush()
             if self.daemon.poll() is not None or time.monotonic() > end:
@@ -566,7 +633,8 @@ class SilRun:
             "timing": {"world_s": round(self.timing.get("world_s", 0.0), 3),
                        "setup_s": round(self.timing.get("setup_s", 0.0), 3),
                        "flight_wall_s": round(wall, 3),
-                       "realtime_factor": round(sim_s / wall, 3) if wall > 0 else None},
+                       "realtime_factor": round(sim_s / wall, 3) if wall > 0 else None,
+                       "waiting_for_daemon_s": round(self.timing.get("host_wait_s", 0.0), 3)},
             "cpu": {"simulator_s": round(cpu_self, 3),
                     "daemon_s": self.daemon_cpu_s,
                     "boards_s": boards_cpu,
