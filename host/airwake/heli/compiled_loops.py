@@ -105,105 +105,176 @@ def foh_weights(lam, dt):
     return ea, phi1, phi2
 
 
-def hidden_rates(i, h, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0, vinv, g, b, mr, work):
-    """f_h at sample i with hidden states h: g = f_h - A0 h, b = V^-1 g; measurement mr."""
-    q, ld, sc, _m, xd = work[0], work[1], work[2], work[3], work[4]
-    m = h.shape[0]
+def matvec_add(out, a_t, v):
+    """out += A v with A given transposed (a_t = A.T): the inner loop runs over the
+    independent outputs, so it vectorises without reordering any sum."""
+    for l in range(N_HIDDEN):
+        vl = v[l]
+        for j in range(N_HIDDEN):
+            out[j] += a_t[l, j] * vl
+
+
+def hidden_rates(i, h, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, g, mr, work):
+    """g = f_h - A0 h at sample i with hidden states h; measurement into mr."""
+    q, ld, sc, xd = work[0], work[1], work[2], work[4]
     xr[:] = x[i]
-    for j in range(m):
+    for j in range(N_HIDDEN):
         xr[HIDDEN[j]] = h[j]
     row(q, xr, xd, mr, ld, sc, u[i], w[i * ws], hagl[i * hs], omm[i * oms], pk, HAS, SENSED)
+    for j in range(N_HIDDEN):
+        g[j] = xd[HIDDEN[j]]
+    for l in range(N_HIDDEN):
+        hl = h[l]
+        for j in range(N_HIDDEN):
+            g[j] -= a0_t[l, j] * hl
+
+
+def modal_matrix(vr, vi, wr, wi, vir, vii, out_t):
+    """out_t = Re(V diag(w) V^-1).T from real and imaginary parts."""
+    m = out_t.shape[0]
     for j in range(m):
-        acc = xd[HIDDEN[j]]
         for l in range(m):
-            acc -= a0[j, l] * h[l]
-        g[j] = acc
-    for j in range(m):
-        acc = 0.0 + 0.0j
-        for l in range(m):
-            acc += vinv[j, l] * g[l]
-        b[j] = acc
+            acc = 0.0
+            for k in range(m):
+                # (V diag(w))[j, k] * Vinv[k, l], real part
+                ar = vr[j, k] * wr[k] - vi[j, k] * wi[k]
+                ai = vr[j, k] * wi[k] + vi[j, k] * wr[k]
+                acc += ar * vir[k, l] - ai * vii[k, l]
+            out_t[l, j] = acc
 
 
 def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec, vinv, a0,
                 h0, scale, tol, max_iter, hout, mout, stats):
     """Hidden states of nk parameter sets along a flight, sample by sample.
 
-    Between samples the hidden dynamics h' = A0 h + g(t) are integrated exactly in the
-    eigenbasis of A0 = V diag(lam) V^-1 with g = f_h - A0 h linear over the step (first-
-    order hold); g at the new sample depends on the new h, so each step is solved by
-    fixed-point iteration (contraction |Phi2 (J - A0)| << 1), started from g extrapolated
-    linearly. Converged when the hidden state moves less than tol * scale; the accepted
-    h is the one evaluated last (its measurement goes to mout). stats[k] = (largest
-    number of iterations, largest final relative change)."""
+    Between samples the hidden dynamics h' = A0 h + g(t) are integrated exactly with
+    g = f_h - A0 h linear over the step (first-order hold):
+        h_{k+1} = E h_k + (Phi1 - Phi2) g_k + Phi2 g_{k+1},
+        E = V e^{lam dt} V^-1, Phi1,2 = V diag(phi1,2(lam, dt)) V^-1   (real matrices)
+    computed once for the first step's dt and reused while dt stays within 1e-9 of it
+    (irregular steps use the eigen-decomposition directly). g_{k+1} depends on h_{k+1}:
+    fixed-point iteration (contraction |Phi2 (J - A0)| << 1) from g extrapolated
+    linearly, until h moves less than tol * scale; the accepted h is the one evaluated
+    last (its measurement goes to mout). stats[k] = (most iterations in a step, largest
+    final change, model evaluations)."""
     m = N_HIDDEN
     x, u, w, params = unmanaged(x), unmanaged(u), unmanaged(w), unmanaged(params)
     work = work_arrays()
     xr = np.empty(N_STATES)
-    g = np.empty(m)
-    b = np.empty(m, dtype=np.complex128)
-    bn = np.empty(m, dtype=np.complex128)
-    bprev = np.empty(m, dtype=np.complex128)
-    z = np.empty(m, dtype=np.complex128)
-    base = np.empty(m, dtype=np.complex128)
-    ea = np.empty(m, dtype=np.complex128)
-    p1 = np.empty(m, dtype=np.complex128)
-    p2 = np.empty(m, dtype=np.complex128)
+    mr = np.empty(6)
+    gk = np.empty(m)
+    gprev = np.empty(m)
+    gp = np.empty(m)
     hc = np.empty(m)
     hn = np.empty(m)
-    mr = np.empty(6)
+    base = np.empty(m)
+    e_t = np.empty((m, m))  # E, Phi1 - Phi2, Phi2, transposed (see matvec_add)
+    f_t = np.empty((m, m))
+    p2_t = np.empty((m, m))
+    a0_t = np.empty((m, m))
+    wr = np.empty(m)
+    wi = np.empty(m)
+    war = np.empty(m)
+    wai = np.empty(m)
+    p2r = np.empty(m)
+    p2i = np.empty(m)
+    zr = np.empty(m)
+    zi = np.empty(m)
+    dt_ref = t[1] - t[0] if nt > 1 else 0.0
     for kk in range(nk):
         pk = params[kk * ps]
-        lk, vk, vik, ak = lam[kk], vec[kk], vinv[kk], a0[kk]
+        lk, sk = lam[kk], scale[kk]
+        a0_t[:, :] = a0[kk].T
+        vr, vi = vec[kk].real.copy(), vec[kk].imag.copy()
+        vir, vii = vinv[kk].real.copy(), vinv[kk].imag.copy()
+        if nt > 1:
+            for j in range(m):
+                ea, p1, p2 = foh_weights(lk[j], dt_ref)
+                wr[j], wi[j] = ea.real, ea.imag
+                war[j], wai[j] = (p1 - p2).real, (p1 - p2).imag
+                p2r[j], p2i[j] = p2.real, p2.imag
+            modal_matrix(vr, vi, wr, wi, vir, vii, e_t)
+            modal_matrix(vr, vi, war, wai, vir, vii, f_t)
+            modal_matrix(vr, vi, p2r, p2i, vir, vii, p2_t)
         worst_it = 0
         worst_change = 0.0
+        evaluations = 1
         for j in range(m):
             hc[j] = h0[kk, j]
-        hidden_rates(0, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, ak, vik, g, b, mr, work)
-        for j in range(m):
-            acc = 0.0 + 0.0j
-            for l in range(m):
-                acc += vik[j, l] * hc[l]
-            z[j] = acc
-            bprev[j] = b[j]
             hout[kk, 0, j] = hc[j]
+        hidden_rates(0, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, gk, mr, work)
         mout[kk, 0, :] = mr
-        last_dt = -1.0
+        gprev[:] = gk
         for k in range(nt - 1):
             dt = t[k + 1] - t[k]
-            if dt != last_dt:
+            uniform = abs(dt - dt_ref) <= 1e-9 * abs(dt_ref)
+            if uniform:
+                base[:] = 0.0
+                matvec_add(base, e_t, hc)
+                matvec_add(base, f_t, gk)
+            else:  # irregular step: exact weights of this dt, in the eigenbasis
                 for j in range(m):
-                    ea[j], p1[j], p2[j] = foh_weights(lk[j], dt)
-                last_dt = dt
+                    ea, p1, p2 = foh_weights(lk[j], dt)
+                    wr[j], wi[j] = ea.real, ea.imag
+                    war[j], wai[j] = (p1 - p2).real, (p1 - p2).imag
+                    p2r[j], p2i[j] = p2.real, p2.imag
+                for j in range(m):  # z = ea V^-1 h + (phi1 - phi2) V^-1 g
+                    hr = 0.0
+                    hi = 0.0
+                    gr = 0.0
+                    gi = 0.0
+                    for l in range(m):
+                        hr += vir[j, l] * hc[l]
+                        hi += vii[j, l] * hc[l]
+                        gr += vir[j, l] * gk[l]
+                        gi += vii[j, l] * gk[l]
+                    zr[j] = wr[j] * hr - wi[j] * hi + war[j] * gr - wai[j] * gi
+                    zi[j] = wr[j] * hi + wi[j] * hr + war[j] * gi + wai[j] * gr
+                for j in range(m):
+                    acc = 0.0
+                    for l in range(m):
+                        acc += vr[j, l] * zr[l] - vi[j, l] * zi[l]
+                    base[j] = acc
             for j in range(m):
-                base[j] = ea[j] * z[j] + p1[j] * b[j] - p2[j] * b[j]
-                bn[j] = 2.0 * b[j] - bprev[j]  # predictor: g extrapolated
+                gp[j] = 2.0 * gk[j] - gprev[j]  # predictor: g extrapolated
             change = np.inf
             it = 0
             while it < max_iter:
                 it += 1
-                for j in range(m):
-                    acc = 0.0
-                    for l in range(m):
-                        acc += (vk[j, l] * (base[l] + p2[l] * bn[l])).real
-                    hn[j] = acc
+                # hn = base + Phi2 gp
+                if uniform:
+                    hn[:] = base
+                    matvec_add(hn, p2_t, gp)
+                else:
+                    for j in range(m):
+                        gr = 0.0
+                        gi = 0.0
+                        for l in range(m):
+                            gr += vir[j, l] * gp[l]
+                            gi += vii[j, l] * gp[l]
+                        zr[j] = p2r[j] * gr - p2i[j] * gi
+                        zi[j] = p2r[j] * gi + p2i[j] * gr
+                    for j in range(m):
+                        acc = base[j]
+                        for l in range(m):
+                            acc += vr[j, l] * zr[l] - vi[j, l] * zi[l]
+                        hn[j] = acc
                 if it > 1:
                     change = 0.0
                     for j in range(m):
-                        d = abs(hn[j] - hc[j]) / scale[kk, j]
+                        d = abs(hn[j] - hc[j]) / sk[j]
                         if d > change:
                             change = d
                     if change < tol:
                         break
-                for j in range(m):
-                    hc[j] = hn[j]
-                hidden_rates(k + 1, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, ak, vik, g,
-                             bn, mr, work)
-            # accept the last evaluated state hc (rates bn, measurement mr)
+                hc[:] = hn
+                evaluations += 1
+                hidden_rates(k + 1, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, gp, mr,
+                             work)
+            # accept the last evaluated state hc (rates gp, measurement mr)
+            gprev[:] = gk
+            gk[:] = gp
             for j in range(m):
-                z[j] = base[j] + p2[j] * bn[j]
-                bprev[j] = b[j]
-                b[j] = bn[j]
                 hout[kk, k + 1, j] = hc[j]
             mout[kk, k + 1, :] = mr
             if it > worst_it:
@@ -212,3 +283,4 @@ def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec
                 worst_change = change
         stats[kk, 0] = worst_it
         stats[kk, 1] = worst_change
+        stats[kk, 2] = evaluations

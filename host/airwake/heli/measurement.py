@@ -220,7 +220,10 @@ def _linearise(model, fa: FlightArrays, w: np.ndarray, pm: np.ndarray, hid) -> _
     f = model.derivatives(xx, np.tile(u[pick], (k, 1)), np.tile(w[pick], (k, 1)), ee,
                           pm if k == 1 else np.repeat(pm, r, axis=0))[:, hid].reshape(k, r, m)
     h_qs = h[:, None, :] - np.linalg.solve(a0[:, None], f[..., None])[..., 0]
-    scale = np.maximum(np.abs(h), 1e-6) + np.std(h_qs, axis=1)
+    size = np.abs(h) + np.std(h_qs, axis=1)
+    # rate-like states are ~0 at every quasi-steady point: give them a floor from the
+    # largest state, or their convergence test would ask for rounding-level changes
+    scale = np.maximum(size, np.maximum(1e-2 * size.max(axis=1, keepdims=True), 1e-9))
     return _Linearisation(h, a0, lam, vec, vinv, h0, scale)
 
 
@@ -236,13 +239,13 @@ def _reconstruct_compiled(model, fa, w, pm, tol, max_iter):
     ws, hs, oms = int(w.shape[0] > 1), int(a.h.size > 1), int(a.om.size > 1)
     hout = np.empty((k, nt, m))
     mout = np.empty((k, nt, 6))
-    stats = np.zeros((k, 2))
+    stats = np.zeros((k, 3))
     model.compiled.fns.hidden_pass(
         k, nt, np.ascontiguousarray(fa.t, dtype=float), np.ascontiguousarray(fa.x),
         np.ascontiguousarray(fa.u), np.ascontiguousarray(w), ws, a.h, hs, a.om, oms,
         pm, int(pm.shape[0] > 1), np.ascontiguousarray(lin.lam, dtype=complex),
         np.ascontiguousarray(lin.vec, dtype=complex),
-        np.ascontiguousarray(lin.vinv, dtype=complex), np.ascontiguousarray(lin.a0),
+        np.ascontiguousarray(lin.vinv, dtype=complex), np.ascontiguousarray(lin.a0, dtype=float),
         np.ascontiguousarray(lin.h0), np.ascontiguousarray(lin.scale), float(tol),
         max(int(max_iter), 2), hout, mout, stats,
     )
