@@ -3,6 +3,7 @@
 import os
 import subprocess
 import sys
+import tempfile
 import threading
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from airwake.heli.measurement import (
     flight_arrays,
     predict_measurements,
 )
+from airwake.heli.plugins import forget_plugin
 from airwake.heli.trim import trim_hover
 from numba.core.caching import NullCache
 
@@ -267,3 +269,41 @@ def test_a_new_process_loads_the_compiled_composition_from_the_cache(table52):
                          cwd=ROOT, timeout=600, check=True)
     hits, misses = map(int, out.stdout.split())
     assert (hits, misses) == (1, 0), out.stderr
+
+
+def test_the_effect_examples_in_the_docs_work():
+    # engineers copy these; a stale example would teach a broken API
+    text = (ROOT / "docs" / "effects.md").read_text()
+    section = text.split("## Writing an effect", 1)[1].split("\n## ", 1)[0]
+    blocks = [b.split("```", 1)[0] for b in section.split("```python\n")[1:]]
+    assert len(blocks) == 2
+    # a stable path: the kernel example's compiled code is cached between runs
+    folder = Path(tempfile.gettempdir()) / f"airwake-doc-examples-{os.getuid()}"
+    folder.mkdir(exist_ok=True)
+    paths = []
+    for i, code in enumerate(blocks):
+        path = folder / f"doc_effect_{i}.py"
+        if not path.exists() or path.read_text() != code:
+            path.write_text(code)
+        paths.append(path)
+    try:
+        (kname,), (nname,) = load_plugin(paths[0]), load_plugin(paths[1])
+        from airwake.heli import registered_effects
+
+        reg = registered_effects()
+        model = load_spec("table52") + reg[kname]() + reg[nname](k=0.05)
+        assert model.is_compiled is False
+        tr = trim_hover(load_spec("table52"))
+        x = np.repeat(tr.x[None], 2, 0)
+        x[:, 4] = 3.0  # sideslip, for the boom drag
+        ctx = model.evaluate(x, tr.u, env={"height_agl_m": np.array([0.5, 50.0])})
+        assert np.all(np.isfinite(ctx.xdot))
+        assert ctx.inflow_0[0] < ctx.inflow_0[1]  # ground effect near the ground only
+        assert ctx.loads[nname][0][0, 1] < 0  # drag opposes the sideslip
+        fast = load_spec("table52") + reg[kname]()
+        assert fast.is_compiled
+        np.testing.assert_allclose(fast.evaluate(x, tr.u, env={"height_agl_m": 0.5}).inflow_0,
+                                   ctx.inflow_0[0], rtol=1e-12)
+    finally:
+        for path in paths:
+            forget_plugin(path)

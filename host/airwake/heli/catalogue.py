@@ -23,7 +23,8 @@ def render_markdown() -> str:
     from airwake.heli.effects.base import load_catalogue
 
     load_catalogue()  # the discrepancy catalogue's effects are documented here too
-    out = [PREAMBLE]
+    out = [PREAMBLE.rstrip().removesuffix("## Effects").rstrip() + "\n", _quantities(),
+           "## Effects\n"]
     for name in registered_effects():
         if effect_source(name) is not None:
             continue  # plugins document themselves
@@ -47,6 +48,19 @@ def render_markdown() -> str:
         if info.states:
             out.append("States: " + ", ".join(f"`{s.name}` ({s.unit})" for s in info.states) + "\n")
     return "\n".join(out).rstrip() + "\n"
+
+
+def _quantities() -> str:
+    """The context layout (airwake.heli.layout) as a table."""
+    from airwake.heli.layout import OFFSETS, QUANTITIES
+
+    out = ["## Context quantities",
+           "Shared intermediate quantities of one row (`ctx.<name>` in numpy, "
+           "`q[Q.<name>]` in a kernel; vectors occupy `width` consecutive slots).\n",
+           "| name | slot | width | unit | written by | meaning |", "|---|---|---|---|---|---|"]
+    for name, width, unit, who, doc in QUANTITIES:
+        out.append(f"| `{name}` | {OFFSETS[name]} | {width} | {unit} | {who} | {doc} |")
+    return "\n".join(out) + "\n"
 
 
 if __name__ == "__main__":
