@@ -1,0 +1,189 @@
+"""Step 4 — add an effect to the model, fit it, write the new spec (and watch the error).
+
+    result = add_effect("table52", "ground_effect", "flight.parquet", out="model2.toml")
+
+The effect is a catalogue effect (by name) or one a user plugin registers
+(`plugin="my_effect.py"`). Its parameters are fitted by nonlinear least squares on the
+equation error (`fit.fit_parameters`: the same band, mask and noise weights as every other
+step; bounds from the effect's parameter specs). A catalogue effect starts from its linear
+screening estimate (`diagnose.screen`); a plugin from its defaults, fitting its non-fixed
+parameters. `retune` names other model parameters (full names or globs, e.g.
+"main_rotor.lock_number", "fuselage.*") fitted together with the effect. The new spec is
+written to a temporary file next to `out`, loaded back to check it, and renamed over
+`out`: a failure anywhere leaves nothing (or the previous file) behind.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from airwake.discrepancy.candidates import candidate, effect_with
+from airwake.discrepancy.compare import Analysis, analyse, channel_metrics
+from airwake.discrepancy.errors import DiscrepancyError
+from airwake.discrepancy.fit import FitResult, fit_parameters
+from airwake.discrepancy.settings import AnalysisSettings
+from airwake.heli.context import MEAS_CHANNELS
+
+
+@dataclass
+class AddResult:
+    effect: str
+    model: object
+    fit: FitResult
+    before: dict  # channel metrics
+    after: dict
+    out: Path | None
+    plugin: str | None
+
+    def to_json(self) -> dict:
+        return {
+            "effect": self.effect,
+            "plugin": self.plugin,
+            "fitted": self.fit.values,
+            "start": self.fit.start,
+            "at_bound": self.fit.at_bound,
+            "converged": self.fit.success,
+            "evaluations": self.fit.nfev,
+            "before": {c: self.before[c]["rms"] for c in MEAS_CHANNELS},
+            "after": {c: self.after[c]["rms"] for c in MEAS_CHANNELS},
+            "noise_band": {c: self.before[c]["noise_band"] for c in MEAS_CHANNELS},
+            "reduction": {c: 1.0 - self.after[c]["rms"] / self.before[c]["rms"]
+                          for c in MEAS_CHANNELS},
+            "out": None if self.out is None else str(self.out),
+            "model_effects": list(self.model.effect_names),
+        }
+
+
+def load_model(spec):
+    """A HeliModel from a spec path / shipped name (catalogue effects resolvable)."""
+    import airwake.discrepancy.effects  # noqa: F401 — catalogue effects by name
+    from airwake.heli import HeliModel, load_spec
+
+    if isinstance(spec, HeliModel):
+        return spec
+    try:
+        return load_spec(spec)
+    except DiscrepancyError:
+        raise
+    except Exception as exc:  # SpecError is an AirwakeError; others are bugs in a plugin
+        from airwake.errors import AirwakeError
+
+        if isinstance(exc, AirwakeError):
+            raise DiscrepancyError(str(exc)) from None
+        raise DiscrepancyError(f"model spec {spec}: {type(exc).__name__}: {exc}") from None
+
+
+def resolve_retune(model, patterns) -> list[str]:
+    names = list(model.parameter_names)
+    fixed = dict(zip(names, model.fixed_mask(), strict=True))
+    out = []
+    for pat in patterns or ():
+        hits = [n for n in names if fnmatch.fnmatchcase(n, pat)]
+        if not hits:
+            raise DiscrepancyError(f"--retune {pat!r} matches no model parameter; parameters: "
+                                   f"{', '.join(names)}")
+        hits = [n for n in hits if not fixed[n] or n == pat]
+        out += [n for n in hits if n not in out]
+    return out
+
+
+def _register_plugin(plugin) -> list[str]:
+    from airwake.heli.effects.base import EffectError
+    from airwake.heli.plugins import load_plugin
+
+    try:
+        return load_plugin(plugin)
+    except EffectError as exc:
+        raise DiscrepancyError(str(exc)) from None
+
+
+def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
+               settings: AnalysisSettings | None = None, analysis: Analysis | None = None,
+               max_nfev: int = 30, name: str = "", progress=None) -> AddResult:
+    """Enable `effect`, fit it (and `retune`) on `flight`, write `out` (module docstring)."""
+    import airwake.discrepancy.effects  # noqa: F401
+    from airwake.heli.effects.base import EffectError, effect_class
+
+    settings = settings or AnalysisSettings()
+    model = load_model(model)
+    plugin_names = _register_plugin(plugin) if plugin is not None else []
+    if plugin is not None and effect not in plugin_names:
+        raise DiscrepancyError(f"plugin {plugin} registers {plugin_names}, not {effect!r}")
+    try:
+        cls = effect_class(effect)
+    except EffectError as exc:
+        raise DiscrepancyError(str(exc)) from None
+    if effect in model:
+        raise DiscrepancyError(f"effect {effect!r} is already in the model; refit it with "
+                               f"--retune '{effect}.*' on a model without it, or remove it")
+    an = analysis or analyse(model, flight, settings)
+    free_retune = resolve_retune(model, retune)
+    cand = candidate(effect)
+    if cand is not None:
+        from airwake.discrepancy.diagnose import effective_rows, screen
+
+        y = an.residual_band[an.mask]
+        blocks = [b for b in np.array_split(np.arange(y.shape[0]), settings.n_blocks) if b.size]
+        res = screen(an, cand, blocks, effective_rows(an), y)
+        specs = {p.name: p for p in cls.PARAMETERS}
+        start = {}
+        for p, v in res.params.items():
+            lo, hi = specs[p].bounds
+            start[p] = float(np.clip(v, lo + 1e-6 * (hi - lo), hi - 1e-6 * (hi - lo)))
+        fit_names = list(cand.fit)
+        reuse = cand.reuse_hidden and not free_retune
+    else:
+        start = {}
+        fit_names = [p.name for p in cls.PARAMETERS if not p.fixed and p.choices is None]
+        reuse = False
+    try:
+        eff = effect_with(effect, start)
+    except (TypeError, ValueError) as exc:
+        raise DiscrepancyError(f"effect {effect!r} cannot be built: {exc}") from None
+    trial = model + eff
+    free = [f"{effect}.{p}" for p in fit_names] + free_retune
+    if not free:
+        raise DiscrepancyError(f"effect {effect!r} has no free parameter to fit")
+    fr = fit_parameters(an, trial, free, max_nfev=max_nfev, reuse_hidden=reuse,
+                        progress=progress)
+    before = an.metrics()
+    after_res = fl_res = an.flight.z - fr.zhat
+    after = channel_metrics(an.band(after_res), an.measured_band, fl_res, an.mask, an.noise)
+    written = None
+    if out is not None:
+        written = write_spec_atomically(fr.model, out, name=name or Path(out).stem,
+                                        description=f"{', '.join(model.effect_names)} + "
+                                        f"{effect} fitted on {an.flight.name}")
+    return AddResult(effect, fr.model, fr, before, after, written, None if plugin is None
+                     else str(plugin))
+
+
+def write_spec_atomically(model, out, name: str = "", description: str = "") -> Path:
+    """save_spec to a temp file in out's directory, load it back, rename over out."""
+    from airwake.heli import load_spec, save_spec
+
+    out = Path(out)
+    if out.suffix.lower() != ".toml":
+        raise DiscrepancyError(f"--out {out}: a model spec is a .toml file")
+    if not out.parent.exists():
+        raise DiscrepancyError(f"--out {out}: directory {out.parent} does not exist")
+    fd, tmp = tempfile.mkstemp(prefix=f".{out.stem}.", suffix=".toml", dir=out.parent)
+    os.close(fd)
+    tmp = Path(tmp)
+    try:
+        save_spec(model, tmp, name=name or out.stem, description=description)
+        back = load_spec(tmp)
+        if back.effect_names != model.effect_names:
+            raise DiscrepancyError(f"{out}: the written spec does not load back the same "
+                                   "model")
+        os.replace(tmp, out)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return out

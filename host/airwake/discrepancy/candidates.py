@@ -1,0 +1,159 @@
+"""The catalogue as the diagnosis sees it: how to screen, fit and explain each effect.
+
+A `Candidate` names a registered catalogue effect (`airwake.discrepancy.effects`) and says
+
+- `screen`: the parameters whose first-order sensitivities d z_hat / d theta are the
+  candidate's regressors, each with the step of a forward difference taken from "off"
+  (amplitude-like parameters: bias, lever, strength, tau, gain);
+- `base`: the values the other parameters hold while screening (the others at "off");
+- `shapes`: alternatives for nonlinear shape parameters (heights, peak airspeed) tried in
+  the screening (each a dict of values; the best by cross-validation is kept);
+- `fit`: the parameters the nonlinear refinement and `add` fit;
+- `needs`: flight columns without which the candidate cannot be tested;
+- `reuse_hidden`: the effect only transforms the measurement, so the baseline's
+  reconstructed rotor states can be reused (one model evaluation instead of a relaxation);
+- `manoeuvre`: what a flight should contain to separate it from look-alikes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Candidate:
+    name: str
+    title: str
+    screen: dict
+    fit: tuple
+    base: dict = field(default_factory=dict)
+    shapes: tuple = ({},)
+    needs: tuple = ()
+    reuse_hidden: bool = False
+    manoeuvre: str = ""
+
+
+CANDIDATES: tuple[Candidate, ...] = (
+    Candidate(
+        "ground_effect", "ground effect",
+        screen={"strength": 0.5},
+        base={},
+        shapes=({"fade_start_ratio": 2.0, "fade_end_ratio": 3.0},
+                {"fade_start_ratio": 1.5, "fade_end_ratio": 2.5},
+                {"fade_start_ratio": 3.0, "fade_end_ratio": 5.0}),
+        fit=("strength", "fade_start_ratio", "fade_end_ratio"),
+        needs=("height_agl_m",),
+        manoeuvre="hovers at several heights between 0.5 R and 3 R (zero airspeed) with slow "
+                  "collective changes",
+    ),
+    Candidate(
+        "imu_lever_arm", "IMU lever arm",
+        screen={"x_m": 0.1, "y_m": 0.1, "z_m": 0.1},
+        fit=("x_m", "y_m", "z_m"),
+        manoeuvre="rapid roll, pitch and yaw reversals (large angular accelerations and "
+                  "rates) at constant thrust",
+    ),
+    Candidate(
+        "servo_lag", "servo lag",
+        screen={"tau_swash_s": 0.03, "tau_tail_s": 0.03},
+        base={"tau_swash_s": 0.002, "tau_tail_s": 0.002},
+        fit=("tau_swash_s", "tau_tail_s"),
+        manoeuvre="cyclic, collective and pedal chirps up to 4-5 Hz (the lag grows with "
+                  "input frequency)",
+    ),
+    Candidate(
+        "rotor_droop", "rotor-speed droop",
+        screen={"tachometer_gain": 0.5},
+        base={"tachometer_gain": 0.0},
+        fit=("tachometer_gain",),
+        needs=("rotor_speed_rad_s",),
+        manoeuvre="large collective steps with the tachometer recorded (the governor droops "
+                  "and recovers)",
+    ),
+    Candidate(
+        "dynamic_inflow", "inflow dynamics",
+        screen={"tau_s": 0.05},
+        base={"tau_s": 0.005},
+        fit=("tau_s",),
+        manoeuvre="collective steps and chirps up to ~4 Hz out of ground effect (thrust "
+                  "overshoot on each step)",
+    ),
+    Candidate(
+        "wake_recirculation", "wake recirculation",
+        screen={"inflow_increase": 0.2},
+        base={"inflow_increase": 0.0, "gradient_fraction": 0.5},
+        shapes=tuple({"peak_airspeed_m_s": v, "full_height_ratio": 1.0,
+                      "zero_height_ratio": h} for v in (1.5, 3.0, 5.0) for h in (2.0, 3.5)),
+        fit=("inflow_increase", "peak_airspeed_m_s", "gradient_fraction",
+             "full_height_ratio", "zero_height_ratio"),
+        needs=("height_agl_m",),
+        manoeuvre="low passes near the ground at 1-6 m/s and hovers at the same height (no "
+                  "recirculation in hover, where ground effect is largest)",
+    ),
+    Candidate(
+        "accel_bias", "accelerometer bias",
+        screen={"bx_m_s2": 0.1, "by_m_s2": 0.1, "bz_m_s2": 0.1},
+        fit=("bx_m_s2", "by_m_s2", "bz_m_s2"),
+        reuse_hidden=True,
+        manoeuvre="steady hovers at different thrust and attitude (a bias stays constant, a "
+                  "misalignment scales with the specific force)",
+    ),
+    Candidate(
+        "accel_misalignment", "accelerometer misalignment",
+        screen={"ex_rad": 0.01, "ey_rad": 0.01, "ez_rad": 0.01},
+        fit=("ex_rad", "ey_rad", "ez_rad"),
+        reuse_hidden=True,
+        manoeuvre="collective steps in hover (a misalignment scales with the specific "
+                  "force, a bias does not)",
+    ),
+    Candidate(
+        "cg_offset", "mass / CG offset",
+        screen={"x_m": 0.01, "y_m": 0.01, "z_m": 0.01, "mass_error_kg": 0.1},
+        fit=("x_m", "y_m", "z_m", "mass_error_kg"),
+        reuse_hidden=True,
+        manoeuvre="hovers at different thrust and forward flight (moment offsets scale with "
+                  "the rotor force)",
+    ),
+    Candidate(
+        "fuselage_drag_error", "fuselage drag error",
+        screen={"dcx_m2": 0.02, "dcy_m2": 0.02, "dcz_m2": 0.02},
+        base={"x_cp_m": 0.0, "z_cp_m": 0.0},
+        fit=("dcx_m2", "dcy_m2", "dcz_m2", "x_cp_m", "z_cp_m"),
+        manoeuvre="forward, sideward and vertical flight at several speeds (>= 3 m/s)",
+    ),
+)
+
+
+def candidate(name: str) -> Candidate | None:
+    for c in CANDIDATES:
+        if c.name == name:
+            return c
+    return None
+
+
+def effect_with(name: str, values: dict):
+    """An instance of the registered effect `name` with `values` (others default)."""
+    import airwake.discrepancy.effects  # noqa: F401 — registers the catalogue
+    from airwake.heli.effects.base import effect_class
+
+    return effect_class(name)(**values)
+
+
+def flight_can_test(cand: Candidate, flight, model) -> str | None:
+    """None when the flight can test `cand`, else why not (a short phrase)."""
+    for col in cand.needs:
+        if not flight.has(col):
+            return f"the flight has no {col}"
+    if cand.name in ("ground_effect", "wake_recirculation"):
+        radius = float(model["main_rotor"].parameters()["radius_m"])
+        z = flight.column("height_agl_m")
+        low = np.isfinite(z) & (z < 3.0 * radius)
+        if low.sum() < 0.02 * z.size:
+            return "the flight never comes within 3 rotor radii of the ground"
+    if cand.name == "rotor_droop":
+        om = flight.column("rotor_speed_rad_s")
+        if np.ptp(om) < 1e-6:
+            return "the measured rotor speed is constant"
+    return None

@@ -1,0 +1,298 @@
+"""Step 3 — which effect is missing: rank the catalogue's candidates on a flight.
+
+For each candidate effect E of the catalogue (`candidates.py`) that the flight can test:
+
+1. **Screen** (linear, cheap): regressors are the sensitivities of the predicted channels
+   to E's amplitude parameters at "off", s_j = (z_hat(M + E(theta_j = step)) - z_hat(M)) /
+   step, one batched prediction per candidate (and per alternative shape). The residual
+   r = band(z - z_hat(M)) is regressed on band(s_j) over the analysis mask with channel
+   weights 1/noise^2: in-sample explained share of the residual (ERR-style), per channel
+   and overall; the same out of sample by time-block cross-validation; a partial-F test
+   with the residual's effective sample size (autocorrelation-corrected, Geyer's initial
+   positive sequence per channel) as denominator degrees of freedom.
+2. **Refine** (nonlinear, the top few): `fit.fit_parameters` on E's fit parameters from
+   the linear estimate; the refined explained share ranks the refined candidates.
+3. **Decide**: significant when p < alpha / (number of candidates tested) *and* the
+   cross-validated explained share >= min_explained *and* the explained RMS reaches
+   min_noise_ratio x the noise floor in some channel (a practical effect size: with 10^4
+   samples, statistically significant alone means little).
+4. **Tell apart**: canonical correlations between the candidates' sensitivity subspaces
+   on this flight; above 0.9 the flight cannot distinguish them ("indistinguishable
+   here"), and the separating manoeuvres are suggested.
+5. **Explain**: a one-line physical reason from the data (`reasons.py`) and a named,
+   sparse regression of the residual on physical-variable terms (`sindy.py`) for effects
+   outside the catalogue.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from airwake.discrepancy import signal
+from airwake.discrepancy.candidates import CANDIDATES, Candidate, effect_with, flight_can_test
+from airwake.discrepancy.compare import Analysis, analyse
+from airwake.discrepancy.data import CHANNEL_LABELS
+from airwake.discrepancy.fit import fit_parameters, predict_sets
+from airwake.discrepancy.regress import LinearFit, canonical_correlations, linear_fit
+from airwake.discrepancy.settings import AnalysisSettings
+from airwake.heli.context import MEAS_CHANNELS
+
+INDISTINGUISHABLE = 0.9
+
+
+@dataclass
+class CandidateResult:
+    name: str
+    title: str
+    testable: bool = True
+    why_not: str = ""
+    shape: dict = field(default_factory=dict)
+    linear: LinearFit | None = None
+    linear_params: dict = field(default_factory=dict)
+    refined: bool = False
+    params: dict = field(default_factory=dict)  # fitted values (short names)
+    explained: float = 0.0  # final (refined if refined, else linear in-sample)
+    explained_channels: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    rms_after: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    significant: bool = False
+    decision: str = ""
+    reason: str = ""
+    indistinguishable_from: list = field(default_factory=list)
+    manoeuvre: str = ""
+    contribution: np.ndarray | None = None  # (T, 6) predicted change of the channels
+    sens: np.ndarray | None = None  # (n, 6, J) weighted screening regressors
+
+    @property
+    def cv_explained(self) -> float:
+        return self.linear.cv_explained if self.linear is not None else 0.0
+
+    def to_json(self) -> dict:
+        out = {"effect": self.name, "title": self.title, "testable": self.testable}
+        if not self.testable:
+            out["why_not"] = self.why_not
+            return out
+        lin = self.linear
+        out.update({
+            "explained": self.explained,
+            "explained_channels": {c: float(v) for c, v in
+                                   zip(MEAS_CHANNELS, self.explained_channels, strict=True)},
+            "cv_explained": lin.cv_explained,
+            "cv_explained_channels": {c: float(v) for c, v in
+                                      zip(MEAS_CHANNELS, lin.cv_channels, strict=True)},
+            "f_stat": lin.f_stat, "p_value": lin.p_value, "n_eff": lin.n_eff,
+            "condition_number": lin.condition,
+            "params": self.params, "refined": self.refined, "shape": self.shape,
+            "rms_after": {c: float(v) for c, v in zip(MEAS_CHANNELS, self.rms_after,
+                                                      strict=True)},
+            "significant": self.significant, "decision": self.decision,
+            "reason": self.reason, "indistinguishable_from": self.indistinguishable_from,
+            "separating_manoeuvre": self.manoeuvre,
+        })
+        return out
+
+
+@dataclass
+class Diagnosis:
+    analysis: Analysis
+    ranked: list  # CandidateResult, best first (testable ones), then untestable
+    n_eff: float
+    sindy: dict | None = None
+    notes: list = field(default_factory=list)
+
+    def top(self, k: int = 1) -> list[str]:
+        return [c.name for c in self.ranked if c.testable][:k]
+
+    def significant(self) -> list[str]:
+        return [c.name for c in self.ranked if c.significant]
+
+    def result(self, name: str) -> CandidateResult:
+        for c in self.ranked:
+            if c.name == name:
+                return c
+        raise KeyError(name)
+
+
+def _regressors(an: Analysis, sens: np.ndarray) -> np.ndarray:
+    """(K, T, 6) sensitivities -> (n, 6, K) in the analysis band over the mask."""
+    k = sens.shape[0]
+    flat = np.moveaxis(sens, 0, -1).reshape(sens.shape[1], -1)  # (T, 6K)
+    banded = an.band(flat).reshape(sens.shape[1], 6, k)
+    return banded[an.mask]
+
+
+def effective_rows(an: Analysis) -> float:
+    """Effective number of independent residual values: sum over channels of Geyer's N_eff
+    of the in-band residual."""
+    return float(sum(signal.effective_samples(an.residual_band[:, j], an.mask)
+                     for j in range(6)))
+
+
+def screen(an: Analysis, cand: Candidate, blocks, n_eff: float, y: np.ndarray
+           ) -> CandidateResult:
+    """Linear screening of one candidate over its alternative shapes (best by CV)."""
+    res = CandidateResult(cand.name, cand.title, manoeuvre=cand.manoeuvre)
+    base_model = an.model
+    best = None
+    for shape in cand.shapes:
+        eff0 = effect_with(cand.name, {**cand.base, **shape})
+        m = base_model + eff0
+        names = m.parameter_names
+        v0 = m.parameter_vector()
+        vecs = []
+        for pname, step in cand.screen.items():
+            v = v0.copy()
+            v[names.index(f"{cand.name}.{pname}")] = cand.base.get(pname, 0.0) + step
+            vecs.append(v)
+        z = predict_sets(m, an, np.array(vecs), cand.reuse_hidden)
+        steps = np.array(list(cand.screen.values()))
+        sens = (z - an.zhat[None]) / steps[:, None, None]
+        x = _regressors(an, sens)
+        fit = linear_fit(y, x, an.weights, blocks, n_eff)
+        if best is None or fit.cv_explained > best[0].cv_explained:
+            best = (fit, shape, x)
+    fit, shape, x = best
+    res.linear, res.shape = fit, dict(shape)
+    res.sens = x
+    res.linear_params = {p: cand.base.get(p, 0.0) + float(a)
+                         for p, a in zip(cand.screen, fit.coef, strict=True)}
+    res.params = {**{k: v for k, v in {**cand.base, **shape}.items()}, **res.linear_params}
+    res.explained = fit.explained
+    res.explained_channels = fit.explained_channels
+    return res
+
+
+def refine(an: Analysis, cand: Candidate, res: CandidateResult, max_nfev: int = 20) -> None:
+    """Nonlinear fit of the candidate's parameters from the linear estimate."""
+    from airwake.heli.effects.base import effect_class
+
+    specs = {p.name: p for p in effect_class(cand.name).PARAMETERS}
+    start = {}
+    for p, v in res.params.items():
+        lo, hi = specs[p].bounds
+        start[p] = float(np.clip(v, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo)))
+    model = an.model + effect_with(cand.name, start)
+    free = [f"{cand.name}.{p}" for p in cand.fit]
+    fr = fit_parameters(an, model, free, max_nfev=max_nfev, reuse_hidden=cand.reuse_hidden)
+    res.refined = True
+    res.params = {**start, **{k.split(".", 1)[1]: v for k, v in fr.values.items()}}
+    res.contribution = fr.zhat - an.zhat
+    _score_contribution(an, res)
+
+
+def _score_contribution(an: Analysis, res: CandidateResult) -> None:
+    after = an.band(an.flight.z - an.zhat - res.contribution)[an.mask]
+    before = an.residual_band[an.mask]
+    w = an.weights
+    sse0_c = np.sum(before**2, 0)
+    sse1_c = np.sum(after**2, 0)
+    res.explained = float(1.0 - np.sum(sse1_c * w) / np.sum(sse0_c * w))
+    res.explained_channels = 1.0 - sse1_c / np.maximum(sse0_c, 1e-300)
+    res.rms_after = np.sqrt(np.mean(after**2, 0))
+
+
+def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
+             candidates=None, refine_top: int = 4, sindy: bool = True, progress=None,
+             analysis: Analysis | None = None) -> Diagnosis:
+    """Rank the catalogue's candidates on `flight` for `model` (module docstring)."""
+    from airwake.discrepancy.reasons import reason_for
+
+    settings = settings or AnalysisSettings()
+    an = analysis or analyse(model, flight, settings)
+    cands = [c for c in CANDIDATES if candidates is None or c.name in candidates]
+    y = an.residual_band[an.mask]
+    n = y.shape[0]
+    blocks = [b for b in np.array_split(np.arange(n), settings.n_blocks) if b.size]
+    n_eff = effective_rows(an)
+    results, untestable = [], []
+    for i, cand in enumerate(cands):
+        if cand.name in an.model:
+            untestable.append(CandidateResult(cand.name, cand.title, testable=False,
+                                              why_not="already in the model"))
+            continue
+        why = flight_can_test(cand, an.flight, an.model)
+        if why:
+            untestable.append(CandidateResult(cand.name, cand.title, testable=False,
+                                              why_not=why))
+            continue
+        results.append(screen(an, cand, blocks, n_eff, y))
+        if progress is not None:
+            progress.update(i + 1, cand.name)
+    results.sort(key=lambda r: -r.cv_explained)
+    by_name = {c.name: c for c in cands}
+    for res in results[:refine_top]:
+        if res.cv_explained > 0:
+            refine(an, by_name[res.name], res)
+    for res in results:
+        if not res.refined:
+            x = res.sens
+            res.contribution = None
+            fitted = np.einsum("ncj,j->nc", x, res.linear.coef) / np.sqrt(an.weights)
+            after = y - fitted
+            res.rms_after = np.sqrt(np.mean(after**2, 0))
+    results.sort(key=lambda r: (not r.refined, -(r.explained if r.refined else
+                                                 r.cv_explained)))
+    _decide(an, results, settings)
+    _distinguish(results)
+    for res in results:
+        res.reason = reason_for(an, res)
+    diag = Diagnosis(an, results + untestable, n_eff)
+    if sindy:
+        from airwake.discrepancy.sindy import sparse_regression
+
+        diag.sindy = sparse_regression(an)
+    return diag
+
+
+def _decide(an: Analysis, results: list, settings: AnalysisSettings) -> None:
+    k = max(len(results), 1)
+    noise = np.asarray(an.noise["band_rms"], float)
+    for res in results:
+        lin = res.linear
+        p_ok = lin.p_value < settings.alpha / k
+        size_ok = lin.cv_explained >= settings.min_explained
+        rms_ok = bool(np.any(lin.explained_rms >= settings.min_noise_ratio * noise))
+        res.significant = bool(p_ok and size_ok and rms_ok)
+        parts = [f"p = {lin.p_value:.2g} {'<' if p_ok else '>='} {settings.alpha / k:.2g}",
+                 f"CV explained {100 * lin.cv_explained:.1f} % "
+                 f"{'>=' if size_ok else '<'} {100 * settings.min_explained:.0f} %",
+                 "explained RMS " + ("reaches" if rms_ok else "below")
+                 + f" {settings.min_noise_ratio:g} x noise"]
+        res.decision = ("significant: " if res.significant else "not significant: ") + \
+            "; ".join(parts)
+
+
+def _distinguish(results: list, top: int = 6) -> None:
+    tested = [r for r in results if r.sens is not None][:top]
+    for i, a in enumerate(tested):
+        xa = a.sens.reshape(-1, a.sens.shape[2])
+        for b in tested[i + 1:]:
+            xb = b.sens.reshape(-1, b.sens.shape[2])
+            cc = canonical_correlations(xa, xb)
+            if cc.size and cc[0] > INDISTINGUISHABLE:
+                a.indistinguishable_from.append({"effect": b.name, "canonical_corr":
+                                                 float(cc[0])})
+                b.indistinguishable_from.append({"effect": a.name, "canonical_corr":
+                                                 float(cc[0])})
+
+
+def summary(diag: Diagnosis) -> dict:
+    an = diag.analysis
+    out = {
+        "flight": an.flight.name,
+        "model_effects": list(an.model.effect_names),
+        "n_eff": diag.n_eff,
+        "settings": an.settings.as_dict(),
+        "candidates": [r.to_json() for r in diag.ranked],
+        "significant": diag.significant(),
+        "notes": diag.notes,
+    }
+    if diag.sindy is not None:
+        out["sparse_regression"] = diag.sindy
+    return out
+
+
+def channel_list(values, threshold: float = 0.2) -> list[str]:
+    return [CHANNEL_LABELS[c] for c, v in zip(MEAS_CHANNELS, values, strict=True)
+            if v >= threshold]

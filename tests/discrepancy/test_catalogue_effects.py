@@ -1,0 +1,130 @@
+"""STYLE 12 for the discrepancy catalogue: every catalogue effect is off at its "off"
+values (the baseline model unchanged), finite at hover, names itself in parameter errors,
+round-trips through a spec by name, and changes the channels its physics says."""
+
+import numpy as np
+import pytest
+from airwake.discrepancy.candidates import CANDIDATES, effect_with
+from airwake.discrepancy.effects import CATALOGUE_EFFECTS
+from airwake.heli import load_spec, save_spec
+from airwake.heli.trim import trim_hover
+
+BASE = load_spec("table52")
+TRIM = trim_hover(BASE)
+NAMES = sorted(c.name for c in CATALOGUE_EFFECTS)
+# parameter values that make each effect the identity (states start at the command /
+# quasi-static value, see _state_at_rest)
+OFF = {
+    "ground_effect": {"strength": 0.0}, "imu_lever_arm": {}, "servo_lag": {},
+    "rotor_droop": {"tachometer_gain": 0.0}, "dynamic_inflow": {},
+    "wake_recirculation": {"inflow_increase": 0.0}, "accel_bias": {},
+    "accel_misalignment": {}, "cg_offset": {}, "fuselage_drag_error": {},
+}
+
+
+def _rows(model, n=4):
+    """Hover trim plus perturbations: rates, velocities, near-ground heights, a rotor-speed
+    reading, for the base model's states; own states of the effect at rest."""
+    rng = np.random.default_rng(3)
+    x = np.repeat(TRIM.x[None], n, 0)
+    x[:, 3:6] += rng.normal(0, 1.5, (n, 3))
+    x[:, 9:12] += rng.normal(0, 0.4, (n, 3))
+    u = np.repeat(TRIM.u[None], n, 0) + rng.normal(0, 0.01, (n, 4))
+    env = {"height_agl_m": np.array([0.5, 0.9, 1.6, np.inf])[:n],
+           "rotor_speed_rad_s": np.array([158.0, 163.3, 168.0, 150.0])[:n]}
+    xf = np.zeros((n, model.n_states))
+    xf[:, :BASE.n_states] = x
+    return xf, u, env
+
+
+def _state_at_rest(model, name, x, u):
+    """Own states where the effect is transparent: servo = command, lagged inflow =
+    quasi-static inflow."""
+    sl = model.state_slice(name)
+    if name == "servo_lag":
+        x[:, sl] = u
+    if name == "dynamic_inflow":
+        ctx = BASE.evaluate(x[:, :BASE.n_states], u)
+        x[:, sl] = np.asarray(ctx.inflow_0)[:, None]
+    return x
+
+
+def test_every_catalogue_effect_has_a_candidate_and_an_off_entry():
+    # a new catalogue effect must say how the diagnosis screens it and what "off" is
+    assert sorted(c.name for c in CANDIDATES) == NAMES
+    assert sorted(OFF) == NAMES
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_effect_switched_off_leaves_the_baseline_unchanged(name):
+    # the screening's sensitivities are differences from the baseline: "off" must be exact
+    model = BASE + effect_with(name, OFF[name])
+    x, u, env = _rows(model)
+    x = _state_at_rest(model, name, x, u)
+    z0 = BASE.measure(x[:, :BASE.n_states], u, None, env)
+    z1 = model.measure(x, u, None, env)
+    np.testing.assert_allclose(z1, z0, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_effect_is_finite_and_changes_the_prediction_when_on(name):
+    on = {c.name: c for c in CANDIDATES}[name]
+    specs = {p.name: p for p in {c.name: c for c in CATALOGUE_EFFECTS}[name].PARAMETERS}
+    values = {**on.base, **on.shapes[0]}
+    for p, s in on.screen.items():
+        values[p] = min(on.base.get(p, 0.0) + 5 * s, specs[p].bounds[1])
+    model = BASE + effect_with(name, values)
+    x, u, env = _rows(model)
+    x = _state_at_rest(model, name, x, u)
+    if name in ("servo_lag", "dynamic_inflow"):
+        x[:, model.state_slice(name)] *= 0.9  # away from rest, so the lag shows
+    z0 = BASE.measure(x[:, :BASE.n_states], u, None, env)
+    z1 = model.measure(x, u, None, env)
+    assert np.all(np.isfinite(z1))
+    assert np.max(np.abs(z1 - z0)) > 1e-3
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_bad_parameter_raises_value_error_naming_effect_and_parameter(name):
+    cls = {c.name: c for c in CATALOGUE_EFFECTS}[name]
+    for spec in cls.PARAMETERS:
+        for bad in (spec.bounds[1] + 1e6, float("nan"), "abc"):
+            with pytest.raises(ValueError) as exc:
+                cls(**{spec.name: bad})
+            assert name in str(exc.value) and spec.name in str(exc.value)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_parameters_round_trip_through_a_spec_by_name(name, tmp_path):
+    # specs name catalogue effects; load_spec finds them through the registry
+    cls = {c.name: c for c in CATALOGUE_EFFECTS}[name]
+    values = {p.name: p.bounds[0] + (p.bounds[1] - p.bounds[0]) / 3.0 for p in cls.PARAMETERS}
+    model = BASE + cls(**values)
+    back = load_spec(save_spec(model, tmp_path / "m.toml"))
+    assert back == model
+
+
+def test_lever_arm_adds_the_euler_and_centripetal_terms_to_the_accelerometers():
+    # a_IMU = a_CG + w_dot x r + w x (w x r); at zero rate the INS velocity needs no
+    # correction, so the rigid body's angular accelerations are unchanged
+    r = np.array([0.1, -0.05, -0.12])
+    model = BASE + effect_with("imu_lever_arm", dict(zip(("x_m", "y_m", "z_m"), r, strict=True)))
+    x, u, env = _rows(model)
+    x[:, 9:12] = 0.0
+    z0 = BASE.measure(x[:, :BASE.n_states], u, None, env)
+    d = model.measure(x, u, None, env) - z0
+    np.testing.assert_allclose(d[:, 3:], 0.0, atol=1e-12)
+    np.testing.assert_allclose(d[:, :3], np.cross(z0[:, 3:6], r), rtol=1e-9, atol=1e-12)
+    # with rates, the centripetal term w x (w x r) appears
+    x[:, 9:12] = [0.0, 0.0, 2.0]
+    d = model.measure(x, u, None, env) - BASE.measure(x[:, :BASE.n_states], u, None, env)
+    assert np.all(d[:, 0] < -0.3)  # yaw rate 2 rad/s, IMU 10 cm ahead: -w^2 x
+
+
+def test_ground_effect_raises_thrust_near_the_ground_only():
+    model = BASE + effect_with("ground_effect", {"strength": 1.0})
+    x, u, env = _rows(model)
+    az = model.measure(x, u, None, env)[:, 2] - BASE.measure(x[:, :BASE.n_states], u, None,
+                                                             env)[:, 2]
+    assert az[0] < az[1] < 0.0  # more upward specific force the lower (z = 0.5, 0.9 m)
+    assert az[3] == 0.0  # height unknown: no ground effect

@@ -1,0 +1,134 @@
+"""Bad inputs give one clear error and write nothing; CSV flights work; the analysis never
+reads truth columns or metadata; the `airwake model` commands' plumbing."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from airwake.cli import main
+from airwake.discrepancy.add import add_effect
+from airwake.discrepancy.compare import analyse, summary
+from airwake.discrepancy.diagnose import diagnose
+from airwake.discrepancy.diagnose import summary as diag_summary
+from airwake.discrepancy.errors import DiscrepancyError
+from airwake.record.flight_table import FlightTable, write_flight_table
+
+from .flights import TRUTH_SPEC, truth_model
+
+
+@pytest.fixture(scope="module")
+def lever(flights):
+    return flights("lever_arm")
+
+
+@pytest.fixture(scope="module")
+def lever_path(lever, tmp_path_factory):
+    p = tmp_path_factory.mktemp("flights") / "lever.parquet"
+    write_flight_table(lever.df, p, lever.metadata)
+    return p
+
+
+def test_missing_column_is_named(lever):
+    # a user's table without the roll rate must say which column, not KeyError deep inside
+    df = lever.df.drop(columns=["p_rad_s"])
+    with pytest.raises(DiscrepancyError, match="p_rad_s"):
+        analyse(truth_model(), df)
+
+
+def test_nan_is_named_with_column_and_row(lever):
+    df = lever.df.copy()
+    df.loc[123, "acc_z_m_s2"] = np.nan
+    with pytest.raises(DiscrepancyError, match=r"acc_z_m_s2.*row 123"):
+        analyse(truth_model(), df)
+
+
+def test_unknown_effect_name_lists_the_catalogue(lever, tmp_path):
+    out = tmp_path / "m.toml"
+    with pytest.raises(DiscrepancyError, match="unknown effect 'ground_efect'.*ground_effect"):
+        add_effect(truth_model(), "ground_efect", lever, out=out)
+    assert not out.exists()
+
+
+PLUGIN_RAISES = '''
+from airwake.heli import Effect, Parameter, register_effect
+
+@register_effect("broken_in_forces")
+class Broken(Effect):
+    PARAMETERS = (Parameter("k", 0.1, "-", (-1.0, 1.0), "test"),)
+
+    def forces(self, ctx, p):
+        raise RuntimeError("boom in forces")
+'''
+
+PLUGIN_IMPORT_FAILS = '''
+import numpy as np
+raise ValueError("cannot import this plugin")
+'''
+
+
+def test_plugin_that_raises_is_a_clear_error_and_writes_nothing(lever, tmp_path):
+    plugin = tmp_path / "broken.py"
+    plugin.write_text(PLUGIN_RAISES)
+    out = tmp_path / "after.toml"
+    out.write_text("# previous spec\n")
+    with pytest.raises(DiscrepancyError, match="boom in forces"):
+        add_effect(truth_model(), "broken_in_forces", lever, plugin=plugin, out=out)
+    assert out.read_text() == "# previous spec\n"  # untouched
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["after.toml", "broken.py"]
+
+
+def test_plugin_that_fails_to_import_is_a_clear_error(lever, tmp_path):
+    plugin = tmp_path / "bad_import.py"
+    plugin.write_text(PLUGIN_IMPORT_FAILS)
+    with pytest.raises(DiscrepancyError, match="cannot import this plugin"):
+        add_effect(truth_model(), "anything", lever, plugin=plugin, out=tmp_path / "x.toml")
+    assert not (tmp_path / "x.toml").exists()
+
+
+def test_csv_flight_gives_the_same_comparison_as_parquet(lever, tmp_path):
+    # a user's CSV with the documented columns (here: a sim flight round-tripped)
+    csv = tmp_path / "flight.csv"
+    write_flight_table(lever.df, csv, lever.metadata)
+    a = summary(analyse(truth_model(), lever))
+    b = summary(analyse(truth_model(), csv))
+    for c, m in a["channels"].items():
+        assert b["channels"][c]["rms"] == pytest.approx(m["rms"], rel=1e-9)
+
+
+def test_results_do_not_depend_on_truth_columns_or_metadata(lever):
+    # the analysis must be blind to the simulator's answers: same numbers without them
+    bare = lever.df[[c for c in lever.df.columns if not c.startswith("truth_")]].copy()
+    full = FlightTable(lever.df, {**lever.metadata, "scenario": "hidden_lever_arm"}, None)
+    kw = dict(candidates=["imu_lever_arm", "accel_bias"], refine_top=1)
+    a = diag_summary(diagnose(truth_model(), full, **kw))
+    b = diag_summary(diagnose(truth_model(), FlightTable(bare, {}, None), **kw))
+    assert json.dumps(a, sort_keys=True, default=str) == json.dumps(b, sort_keys=True,
+                                                                   default=str)
+
+
+def test_cli_compare_json(lever_path, capsys):
+    status = main(["model", "compare", str(lever_path), "--model", str(TRUTH_SPEC), "--json",
+                   "--windows", "2", "--quiet"])
+    assert status == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out["channels"]) == {"acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2", "pdot_rad_s2",
+                                    "qdot_rad_s2", "rdot_rad_s2"}
+    assert out["free_simulation"]["windows"] == 2
+
+
+def test_cli_errors_are_one_line_with_status_2(tmp_path, capsys):
+    assert main(["model", "compare", str(tmp_path / "missing.parquet")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "not found" in err[0]
+    assert main(["model", "add", "no_such_effect", "--data", str(tmp_path / "x.csv"),
+                 "--out", str(tmp_path / "o.toml")]) == 2
+    assert not (tmp_path / "o.toml").exists()
+
+
+def test_bare_model_group_prints_its_help(capsys):
+    assert main(["model"]) == 2
+    err = capsys.readouterr().err
+    for sub in ("compare", "diagnose", "add", "report"):
+        assert sub in err
