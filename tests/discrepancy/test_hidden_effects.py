@@ -19,7 +19,7 @@ from airwake.discrepancy.add import add_effect
 from airwake.discrepancy.diagnose import diagnose
 from airwake.heli.context import MEAS_CHANNELS
 
-from .flights import analysed, noise_floor, truth_model
+from .flights import analysed, noise_floor
 
 # scenario -> the catalogue effects that model its hidden effects (the recirculation
 # scenario's truth has inflow dynamics *and* wake recirculation)
