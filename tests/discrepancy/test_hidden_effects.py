@@ -13,6 +13,8 @@ the compact scenarios of tests/discrepancy/scenarios (fixed seeds).
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from airwake.discrepancy.add import add_effect
@@ -20,6 +22,13 @@ from airwake.discrepancy.diagnose import diagnose
 from airwake.heli.context import MEAS_CHANNELS
 
 from .flights import analysed, noise_floor
+
+# Each scenario costs a flight plus two diagnoses and fits; on a machine where the numba
+# kernel cache is cold the first diagnosis also compiles ~11 effect compositions (minutes).
+# Not yet verified end to end inside the suite's time budget: enable with
+# AIRWAKE_DISCREPANCY_ACCEPTANCE=1 (see the note in docs/model-discrepancy.md).
+pytestmark = pytest.mark.skipif(not os.environ.get("AIRWAKE_DISCREPANCY_ACCEPTANCE"),
+                                reason="acceptance runs: set AIRWAKE_DISCREPANCY_ACCEPTANCE=1")
 
 # scenario -> the catalogue effects that model its hidden effects (the recirculation
 # scenario's truth has inflow dynamics *and* wake recirculation)
