@@ -182,6 +182,7 @@ def write_spec_atomically(model, out, name: str = "", description: str = "") -> 
         if back.effect_names != model.effect_names:
             raise DiscrepancyError(f"{out}: the written spec does not load back the same "
                                    "model")
+        os.chmod(tmp, 0o644)  # mkstemp makes it private; a spec is an ordinary file
         os.replace(tmp, out)
     except BaseException:
         tmp.unlink(missing_ok=True)
