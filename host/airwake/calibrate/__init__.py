@@ -87,14 +87,20 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     return result
 
 
+def check_output(path) -> Path:
+    """The spec can be written there (checked before a long fit)."""
+    p = Path(path)
+    if not p.parent.is_dir():
+        raise CalibrationError(f"cannot write {p}: directory {p.parent} does not exist")
+    return p
+
+
 def write_spec(model, path, description: str = "") -> Path:
     """save_spec to a temporary file in the target directory, then rename: a failed or
     interrupted write never leaves a half-written spec."""
     from airwake.heli import save_spec
 
-    p = Path(path)
-    if not p.parent.is_dir():
-        raise CalibrationError(f"cannot write {p}: directory {p.parent} does not exist")
+    p = check_output(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}-", suffix=".toml", dir=p.parent)
     os.close(fd)
     try:

@@ -46,8 +46,9 @@ def print_report(result, out_path, stream=None) -> None:
 
 
 def _handle(args: argparse.Namespace) -> int:
-    from airwake.calibrate import calibrate, write_spec
+    from airwake.calibrate import calibrate, check_output, write_spec
 
+    check_output(args.out)
     result = calibrate(
         args.flight, model=args.model, method=args.method, params=args.params,
         window_s=args.window_s, warmup_s=args.warmup_s, max_windows=args.max_windows,
