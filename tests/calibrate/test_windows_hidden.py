@@ -98,3 +98,17 @@ def test_propagator_rejects_nothing_it_can_linearise(model, short_flight):
     assert prop.a.shape == (1, prop.m, prop.m)
     # the rotor dynamics are stable at the reference: every mode decays
     assert np.max(np.linalg.eigvals(prop.a[0]).real) < 0
+
+
+def test_a_parameter_set_that_breaks_the_rotor_is_invalid_not_fatal(model, short_flight):
+    # PSO particles can land anywhere in the bounds: one absurd set must not stop the batch
+    data = FlightData.from_flight(model, short_flight)
+    pred = WindowedPredictor(model, data, make_windows(data, 1.0, 0.5))
+    good = model.parameter_vector()
+    bad = good.copy()
+    bad[model.parameter_names.index("main_rotor.flap_inertia_kg_m2")] = 0.0  # divides by 0
+    z, valid = pred.predict(np.stack([good, bad, good]))
+    assert list(valid) == [True, False, True]
+    assert np.all(np.isfinite(z[[0, 2]])) and np.all(np.isnan(z[1]))
+    r, valid = pred.residuals(np.stack([bad]))
+    assert not valid[0]

@@ -36,10 +36,22 @@ history) and short windows (calibration on many parameter sets in one batch).
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import expm
+
+
+def single_blas_thread():
+    """Context: BLAS on one thread. The loops here multiply many small matrices; a
+    multi-threaded BLAS spends more time waking threads than computing (5x slower on a
+    busy 2-core machine), and the filter's budget is one core."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - a declared dependency
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
 
 
 def evaluate_rates_and_measurement(model, x, u, w, env, params):
@@ -89,6 +101,8 @@ class HiddenPropagator:
     """
 
     NEWTON_ITERATIONS = 5
+    # `valid` (K,): False for a parameter set whose rotor dynamics could not be linearised
+    # (non-finite or singular Jacobian); its rows still run, on a stand-in A = -I.
 
     def __init__(self, model, dt: float, params=None, reference=None) -> None:
         self.model = model
@@ -134,12 +148,21 @@ class HiddenPropagator:
             a = (f[:, 1 : 1 + m] - f[:, 1 + m :]) / (2 * eps[:, :, None])  # (k, j, i)
             return f[:, 0], np.swapaxes(a, 1, 2)
 
-        for _ in range(self.NEWTON_ITERATIONS):
-            f0, a = jac(h)
-            h = h - np.linalg.solve(a, f0[..., None])[..., 0]
-        f0, a = jac(h)
-        if not np.all(np.isfinite(a)):
-            raise FloatingPointError("hidden-state Jacobian is not finite at the reference row")
+        valid = np.ones(k, dtype=bool)
+        eye = np.eye(m)
+        with np.errstate(all="ignore"):
+            for _ in range(self.NEWTON_ITERATIONS + 1):
+                f0, a = jac(h)
+                bad = ~(np.all(np.isfinite(a), axis=(1, 2)) & np.all(np.isfinite(f0), axis=1))
+                bad |= ~np.isfinite(np.linalg.cond(np.where(bad[:, None, None], -eye, a)))
+                valid &= ~bad
+                a[~valid] = -eye  # a harmless stand-in: the set is reported invalid
+                f0[~valid] = 0.0
+                if _ == self.NEWTON_ITERATIONS:
+                    break
+                h = h - np.linalg.solve(a, f0[..., None])[..., 0]
+                h[~valid] = 0.0
+        self.valid = valid
         return h, a
 
     def matrices(self, dt: float):

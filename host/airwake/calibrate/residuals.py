@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from airwake.calibrate.errors import CalibrationError
-from airwake.calibrate.hidden import HiddenPropagator, RowBatch
+from airwake.calibrate.hidden import HiddenPropagator, RowBatch, single_blas_thread
 from airwake.heli.context import MEAS_CHANNELS
 from airwake.heli.model import INPUT_NAMES
 
@@ -181,6 +181,10 @@ class WindowedPredictor:
         self.evaluations = 0  # parameter-set evaluations (for reports)
 
     def predict(self, param_sets: np.ndarray, wind=None):
+        with single_blas_thread():
+            return self._predict(param_sets, wind)
+
+    def _predict(self, param_sets: np.ndarray, wind=None):
         """param_sets (K, P) -> (z (K, W, L, 6), valid (K,) bool). Sets whose rotor
         dynamics cannot be linearised or whose prediction is not finite are invalid
         (their z is NaN)."""
@@ -189,13 +193,8 @@ class WindowedPredictor:
         k = sets.shape[0]
         w_count, length = win.idx.shape
         valid = np.ones(k, dtype=bool)
-        with np.errstate(all="ignore"):
-            try:
-                prop = HiddenPropagator(model, data.dt, sets, data.reference_row())
-            except (FloatingPointError, np.linalg.LinAlgError, ValueError):
-                return self._predict_each(sets, wind)
-        ok = np.all(np.isfinite(prop.a), axis=(1, 2))
-        valid &= ok
+        prop = HiddenPropagator(model, data.dt, sets, data.reference_row())
+        valid &= prop.valid
         rows_params = np.repeat(sets, w_count, axis=0)
         wind_row = np.zeros((1, 6)) if wind is None else np.atleast_2d(wind)
         z = np.empty((k, w_count, length, 6))
@@ -215,19 +214,6 @@ class WindowedPredictor:
         valid &= finite
         z[~valid] = np.nan
         return z, valid
-
-    def _predict_each(self, sets, wind):
-        """Fallback when a batch holds a set whose reference Jacobian fails: one by one."""
-        out, valid = [], []
-        for s in sets:
-            try:
-                z, v = self.predict(s[None], wind)
-            except (FloatingPointError, np.linalg.LinAlgError, ValueError):
-                z = np.full((1, *self.windows.idx.shape, 6), np.nan)
-                v = np.array([False])
-            out.append(z[0])
-            valid.append(bool(v[0]))
-        return np.stack(out), np.array(valid)
 
     def _rows(self, idx: np.ndarray, k: int, wind_row) -> RowBatch:
         d = self.data
