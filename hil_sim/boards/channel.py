@@ -254,11 +254,38 @@ class NativeBoard:
             raise ValueError(f"sensor {sensor}: expected 0..3")
         self._put(LINE, sensor, t_us, _pixels_f32(rate) + _pixels_f32(dark))
 
+    def lines(self, t_us: Sequence[int], rate: np.ndarray, dark: np.ndarray) -> None:
+        """Batch of `line()`: at each t_us[k] every array s gets rate[k, s], dark[k, s]
+        (shapes (K, 4, 128))."""
+        rate = np.asarray(rate, dtype="<f4")
+        dark = np.asarray(dark, dtype="<f4")
+        if rate.shape != dark.shape or rate.shape[1:] != (4, PIXELS):
+            raise ValueError(f"lines: rate {rate.shape} and dark {dark.shape} must be "
+                             "(K, 4, 128)")
+        bodies = np.concatenate([rate, dark], axis=-1)  # (K, 4, 256) f32 = 1024 B each
+        length = HEADER.size + bodies.shape[-1] * 4
+        q = self._queue
+        for k, t in enumerate(t_us):
+            t = int(t)
+            for s in range(4):
+                q.append((t, HEADER.pack(LINE, s, length, 0, t) + bodies[k, s].tobytes()))
+
     def imu(self, t_us: int, gyro_rad_s, accel_m_s2, mag_ut=(0.0, 0.0, 0.0),
             temp_c: float = 25.0) -> None:
         """One IMU sample in the MPU-9250's chip axes (= the board's x fwd, y right,
         z down; at rest accel z = -9.81)."""
         self._put(IMU, 0, t_us, _IMU_BODY.pack(*gyro_rad_s, *accel_m_s2, *mag_ut, temp_c))
+
+    def imus(self, t_us: Sequence[int], rows: np.ndarray) -> None:
+        """Batch of `imu()`: rows (K, 10) float32 gyro[3], accel[3], mag[3], temp."""
+        rows = np.ascontiguousarray(rows, dtype="<f4")
+        if rows.ndim != 2 or rows.shape[1] != 10:
+            raise ValueError(f"imus: rows {rows.shape} must be (K, 10)")
+        length = HEADER.size + _IMU_BODY.size
+        q = self._queue
+        for k, t in enumerate(t_us):
+            t = int(t)
+            q.append((t, HEADER.pack(IMU, 0, length, 0, t) + rows[k].tobytes()))
 
     def edge(self, t_us: int, channel: str | int, level: int) -> None:
         """An input-capture edge: level 1 rising, 0 falling."""

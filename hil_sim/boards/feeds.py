@@ -113,10 +113,9 @@ class ImuFeed(_Cursor):
                                       samples.temperature_c]).astype(np.float32)
 
     def queue(self, board: NativeBoard, t0_us: int, t1_us: int) -> None:
-        rows = self._rows
-        for i in self.window(t0_us, t1_us):
-            r = rows[i]
-            board.imu(int(self.t_us[i]), r[0:3], r[3:6], r[6:9], float(r[9]))
+        r = self.window(t0_us, t1_us)
+        if len(r):
+            board.imus(self.t_us[r.start:r.stop], self._rows[r.start:r.stop])
 
 
 # ---------------------------------------------------------------------------
@@ -204,12 +203,14 @@ class LosaLineFeed:
         while self._end < t1_us:
             self._compute(self._end)
         sent = 0
-        for t, rate, dark in self._buf:
+        for t, _, _ in self._buf:
             if t >= t1_us:
                 break
-            for s in range(4):
-                board.line(t, s, rate[s], dark[s])
             sent += 1
+        if sent:
+            now = self._buf[:sent]
+            board.lines([b[0] for b in now], np.stack([b[1] for b in now]),
+                        np.stack([b[2] for b in now]))
         del self._buf[:sent]
         self.lines_sent += 4 * sent
 

@@ -9,8 +9,8 @@
 - **Links** as on the Teensy builds (docs/firmware.md): host UARTs 460800 baud (LOSA,
   marker, rover's XBee) / 921600 (base), VN200 921600, Piksi 115200, the base's rover
   XBee port 460800. The rover reaches the host through the base: rover host port ->
-  base `rover` port, `xbee_latency_us` later. Boards facing the host (losa, marker,
-  base) get a pty each.
+  base `rover` port, `xbee_latency_us` (5 ms, a Wi-Fi hop) later, both ways. Boards
+  facing the host (losa, marker, base) get a pty each.
 - **Clocks**: each board's crystal has its own drift and boot offset (`--clock-drift-ppm`,
   `--clock-offset-us`) so the daemon's clock mapping has something to find.
 - **Tracker and marker** (hall): the tracker stands `tracker_distance_m` (2.5 m) in front
@@ -56,7 +56,7 @@ class SilRig:
     step_us: int = 10_000
     host_baud: dict = field(default_factory=_default_baud)
     rover_link_baud: int = 460800  # the base's XBee port to the rover
-    xbee_latency_us: int = 2_000
+    xbee_latency_us: int = 5_000
     clock_drift_ppm: dict = field(default_factory=_default_drift)
     clock_offset_us: dict = field(default_factory=_default_offset)
     tracker_position_ned_m: tuple[float, float, float] = (-3.5, 0.0, -1.5)

@@ -75,6 +75,21 @@ def _rchar(pid: int) -> int | None:
         return None
 
 
+_IDLE_WAITS = ("epoll", "select", "poll", "nanosleep")
+
+
+def _asleep(pid: int) -> bool:
+    """The process sleeps in its event loop (select/epoll or its poll-period sleep)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        if state != "S":
+            return state in ("Z", "X")
+        wchan = Path(f"/proc/{pid}/wchan").read_text()
+    except (OSError, IndexError):
+        return True
+    return any(w in wchan for w in _IDLE_WAITS)
+
+
 def _cpu_s(pid: int) -> float | None:
     try:
         fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
@@ -369,34 +384,33 @@ class SilRun:
     def step(self) -> None:
         """Advance every board by one step and relay what crossed the links.
 
-        Stepped mode keeps the daemon in lockstep with one step of slack: the bytes of
-        step k are written when the host clock reads the end of step k, and the clock
-        moves on only after the daemon has read them. So every frame is received at the
-        end of the step it was sent in (delay 0-10 ms, as on a link that delivers in
-        10 ms bursts) whatever the machine's load, and the host's own bytes reach the
-        boards at the clock value they were stamped with."""
+        Stepped mode runs the daemon in lockstep: the bytes of step k are written when
+        the host clock reads the end of step k, and step k+1 begins only once the daemon
+        has read them and finished its pass (it sleeps again) — so the clock it stamped
+        them with is exactly the end of step k, and whatever it wrote in reply (time
+        sync, marker commands, stamped with that same clock) reaches the boards at that
+        instant. Frames reach the host 0-10 ms after they were sent, host bytes reach the
+        boards with no delay, whatever the machine's load; and a run is reproducible."""
         t0 = self.t_us
         t1 = min(t0 + self.rig.step_us, self.end_us)
+        if self.clock is not None:
+            self._wait_host_idle()
         self._collect_host_bytes(t0)
         self._outage_transitions(t0)
+        xbee = "rover" in self.boards and "base" in self.boards
         for name in ORDER:
-            board = self.boards.get(name)
-            if board is None:
-                continue
-            self.feeds.queue(name, board, t0, t1)
-            for t_reset, b in self._resets:
-                if b == name and t0 <= t_reset < t1:
-                    board.reset(t_reset)
-                    self.events.append({"kind": "reset", "board": b, "at_s": t_reset / 1e6})
-            self._host_input(name, board, t0, t1)
-            res = board.advance(t1)
-            if name == "marker" and self.feeds.losa_lines is not None:
-                self.feeds.losa_lines.led_events(res.pwm)
-            self._board_output(name, res)
+            if name in self.boards and not (xbee and name in ("rover", "base")):
+                self._advance(name, t0, t1)
+        if xbee:
+            # the rover and the base talk over the XBee: sub-steps of its latency, so a
+            # byte either way arrives exactly `xbee_latency_us` after it was sent
+            sub = max(1, min(self.rig.xbee_latency_us, t1 - t0))
+            for s0 in range(t0, t1, sub):
+                s1 = min(s0 + sub, t1)
+                self._advance("rover", s0, s1)
+                self._advance("base", s0, s1)
         self.t_us = t1
         if self.clock is not None:
-            self._wait_host_read()
-            self._collect_host_bytes(t0)
             self.clock.set(self.host_offset_ns + t1 * 1000)
         else:
             lag = self._wall0 + t1 / 1e6 - time.monotonic()
@@ -405,6 +419,26 @@ class SilRun:
         self._deliver()
         if self.progress is not None:
             self.progress.update(t1 / 1e6)
+
+    def _wait_host_idle(self) -> None:
+        """The daemon has read everything written so far and is asleep again (its pass
+        over those bytes, with any replies, is complete)."""
+        if self._daemon_dead:
+            return
+        t_start = time.monotonic()
+        self._wait_host_read()
+        pid = self.daemon.pid
+        end = t_start + WRITE_STALL_TIMEOUT_S
+        pause = 5e-5
+        while not _asleep(pid):
+            if time.monotonic() > end:
+                raise SilError(f"the daemon has been busy for {WRITE_STALL_TIMEOUT_S:.0f} s: "
+                               f"{self._daemon_tail()}")
+            self._check_daemon("recording")
+            time.sleep(pause)
+            pause = min(pause * 1.5, 5e-4)
+        self.timing["host_wait_s"] = self.timing.get("host_wait_s", 0.0) + (
+            time.monotonic() - t_start)
 
     def _wait_host_read(self) -> None:
         """Wait (wall time) until the daemon has read every byte written to the ptys.
@@ -424,6 +458,7 @@ class SilRun:
         t_start = time.monotonic()
         empty_since = None
         end = t_start + WRITE_STALL_TIMEOUT_S
+        pause = 5e-5
         while True:
             got = _rchar(self.daemon.pid)
             if got is None or got >= target:
@@ -440,9 +475,22 @@ class SilRun:
                 raise SilError(f"the daemon has not read its ports for "
                                f"{WRITE_STALL_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
             self._check_daemon("recording")
-            time.sleep(0.0001)
-        self.timing["host_wait_s"] = self.timing.get("host_wait_s", 0.0) + (
-            time.monotonic() - t_start)
+            time.sleep(pause)
+            pause = min(pause * 1.5, 5e-4)
+
+    def _advance(self, name: str, t0: int, t1: int) -> None:
+        """One board from t0 to t1 with its inputs; its outputs onto the links."""
+        board = self.boards[name]
+        self.feeds.queue(name, board, t0, t1)
+        for t_reset, b in self._resets:
+            if b == name and t0 <= t_reset < t1:
+                board.reset(t_reset)
+                self.events.append({"kind": "reset", "board": b, "at_s": t_reset / 1e6})
+        self._host_input(name, board, t0, t1)
+        res = board.advance(t1)
+        if name == "marker" and self.feeds.losa_lines is not None:
+            self.feeds.losa_lines.led_events(res.pwm)
+        self._board_output(name, res)
 
     def _host_input(self, name: str, board: NativeBoard, t0: int, t1: int) -> None:
         """Bytes for the board's host port (daemon via pty; the rover via the base) and
