@@ -204,11 +204,11 @@ def test_concurrent_first_calls_share_one_compiled_composition(table52):
 
 def test_generated_module_is_written_once_and_atomically(tmp_path):
     path = tmp_path / "heli_x.py"
-    codegen._write_once(path, "a = 1\n")
+    kernel_cache.write_once(path, "a = 1\n")
     mtime = path.stat().st_mtime_ns
-    codegen._write_once(path, "a = 1\n")  # same content: untouched (numba checks the stamp)
+    kernel_cache.write_once(path, "a = 1\n")  # same content: untouched (numba checks the stamp)
     assert path.stat().st_mtime_ns == mtime
-    codegen._write_once(path, "a = 2\n")  # stale or corrupt: replaced
+    kernel_cache.write_once(path, "a = 2\n")  # stale or corrupt: replaced
     assert path.read_text() == "a = 2\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["heli_x.py"]  # no temp files left
 

@@ -104,7 +104,7 @@ class Context:
         self.n = n
         self.x = x
         self.c = c
-        self.xdot = xdot
+        self._xdot = xdot
         self.scratch = scratch
         self._loads = loads  # (N, E, 6): force, moment per effect (model order)
         self._has_load = has_load  # (E,) 1.0 where the effect added a load
@@ -114,6 +114,15 @@ class Context:
     @staticmethod
     def _scalar_like(v):
         return float(v[0]) if v.size and bool(np.all(v == v[0])) else v
+
+    @property
+    def xdot(self) -> np.ndarray:
+        """(N, S) state derivatives (compiled stages write into the same array)."""
+        return self._xdot
+
+    @xdot.setter
+    def xdot(self, value) -> None:
+        self._xdot[...] = value
 
     # -- states -------------------------------------------------------------------
     def state(self, effect: str) -> np.ndarray:

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from airwake.heli.model import _plain
+
 
 def _rk4_numpy(model, x, u, dt, w, env, params) -> np.ndarray:
     k1 = model.derivatives(x, u, w, env, params)
@@ -72,8 +74,11 @@ class Stepper:
         w2 = self._nw if w is None else np.asarray(w, dtype=np.float64).reshape(-1, 6)
         n = x2.shape[0]
         if (x2.shape[1] != self.model.n_states or u2.shape[0] not in (1, n)
-                or w2.shape[0] not in (1, n) or not x2.flags.c_contiguous
-                or not u2.flags.c_contiguous or not w2.flags.c_contiguous):
+                or w2.shape[0] not in (1, n) or not (x2.flags.c_contiguous and x2.flags.writeable
+                                                     and u2.flags.c_contiguous
+                                                     and u2.flags.writeable
+                                                     and w2.flags.c_contiguous
+                                                     and w2.flags.writeable)):
             out = rk4_step(self.model, x2, u2, self.dt, w2, self.env, self.params)
         else:
             out = np.empty_like(x2)
@@ -105,7 +110,7 @@ def _sampled(values, steps: int, width: int, name: str) -> np.ndarray:
     if a.shape[0] not in (1, steps, steps + 1):
         raise ValueError(f"{name} has {a.shape[0]} samples; expected 1, {steps} (one per "
                          f"step) or {steps + 1} (one per step and the end)")
-    return np.ascontiguousarray(a)
+    return _plain(a)
 
 
 def simulate(

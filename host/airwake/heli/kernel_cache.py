@@ -17,6 +17,7 @@ import inspect
 import os
 import sys
 import tempfile
+import threading
 from functools import cache, lru_cache
 from pathlib import Path
 
@@ -98,6 +99,23 @@ def fingerprint(functions=()) -> str:
         h.update(f.encode())
         h.update(file_hash(f).encode())
     return h.hexdigest()
+
+
+def write_once(path: Path, text: str) -> None:
+    """Create `path` with `text` unless it exists (atomic: concurrent processes race
+    safely, and an existing file keeps its mtime, which numba's cache index checks)."""
+    if path.exists():
+        if path.read_text() == text:
+            return
+        path.unlink()  # corrupt or a hash collision: rewrite
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
+    tmp.write_text(text)
+    try:
+        os.link(tmp, path)
+    except FileExistsError:
+        pass
+    finally:
+        tmp.unlink()
 
 
 class KernelCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):

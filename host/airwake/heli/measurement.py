@@ -35,7 +35,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from airwake.heli.context import MEAS_CHANNELS
-from airwake.heli.model import INPUT_NAMES, HeliModel
+from airwake.heli.model import INPUT_NAMES, HeliModel, _plain
 
 
 @dataclass
@@ -236,14 +236,14 @@ def _reconstruct_compiled(model, fa, w, pm, tol, max_iter):
     if w.strides[0] == 0:  # one wind for the whole flight
         w = w[:1]
     a = model._rows(fa.x[:1], fa.u[:1], w, fa.env, None)
+    w = a.w
     ws, hs, oms = int(w.shape[0] > 1), int(a.h.size > 1), int(a.om.size > 1)
     hout = np.empty((k, nt, m))
     mout = np.empty((k, nt, 6))
     stats = np.zeros((k, 3))
     model.compiled.fns.hidden_pass(
-        k, nt, np.ascontiguousarray(fa.t, dtype=float), np.ascontiguousarray(fa.x),
-        np.ascontiguousarray(fa.u), np.ascontiguousarray(w), ws, a.h, hs, a.om, oms,
-        pm, int(pm.shape[0] > 1), np.ascontiguousarray(lin.lam, dtype=complex),
+        k, nt, _plain(fa.t), _plain(fa.x), _plain(fa.u), w, ws, a.h, hs, a.om, oms,
+        _plain(pm), int(pm.shape[0] > 1), np.ascontiguousarray(lin.lam, dtype=complex),
         np.ascontiguousarray(lin.vec, dtype=complex),
         np.ascontiguousarray(lin.vinv, dtype=complex), np.ascontiguousarray(lin.a0, dtype=float),
         np.ascontiguousarray(lin.h0), np.ascontiguousarray(lin.scale), float(tol),

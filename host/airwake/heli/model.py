@@ -15,8 +15,8 @@ broadcast to N.
 Speed: every effect stage written as a compiled kernel (`airwake.heli.kernel`) runs in one
 generated, numba-compiled function per effect composition (`airwake.heli.codegen`);
 `derivatives`, `measure` and `rates_and_measurement` of an all-kernel model keep only one
-context row in memory. Numpy stages (user plugins) run between compiled segments on the
-full `Context`.
+context row in memory. A model with numpy stages (user plugins) runs stage by stage on
+the full `Context`, each kernel stage through its own compiled loop (`airwake.heli.staged`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from airwake.heli import codegen
+from airwake.heli import codegen, staged
 from airwake.heli.context import MEAS_CHANNELS, Context
 from airwake.heli.effects.base import Effect
 from airwake.heli.layout import N_SLOTS
@@ -45,6 +45,14 @@ BODY_EFFECT = "rigid_body"
 _NO_WIND = np.zeros((1, 6))
 _NO_HEIGHT = np.full(1, np.inf)
 _NO_ROTOR_SPEED = np.full(1, np.nan)
+
+
+def _plain(a: np.ndarray) -> np.ndarray:
+    """C-contiguous and writeable: the one array type the compiled functions are compiled
+    for (a read-only or strided view would compile a second machine-code variant)."""
+    if a.flags.c_contiguous and a.flags.writeable:
+        return a
+    return np.array(a, dtype=np.float64, order="C")
 
 
 class _Rows:
@@ -282,12 +290,12 @@ class HeliModel:
             if arr.shape[0] not in (1, n):
                 raise ValueError(f"{what} has {arr.shape[0]} rows, cannot broadcast to {n}")
         a.n = n
-        a.x, a.xs = np.ascontiguousarray(x), int(x.shape[0] == n)
-        a.u, a.us = np.ascontiguousarray(u), int(u.shape[0] == n)
-        a.w, a.ws = np.ascontiguousarray(w), int(w.shape[0] == n)
-        a.h, a.hs = np.ascontiguousarray(h), int(h.shape[0] == n)
-        a.om, a.oms = np.ascontiguousarray(om), int(om.shape[0] == n)
-        a.p, a.ps = pm, int(pm.shape[0] == n)
+        a.x, a.xs = _plain(x), int(x.shape[0] == n)
+        a.u, a.us = _plain(u), int(u.shape[0] == n)
+        a.w, a.ws = _plain(w), int(w.shape[0] == n)
+        a.h, a.hs = _plain(h), int(h.shape[0] == n)
+        a.om, a.oms = _plain(om), int(om.shape[0] == n)
+        a.p, a.ps = _plain(pm), int(pm.shape[0] == n)
         return a
 
     def _param_views(self, params, n: int) -> dict[str, SimpleNamespace]:
@@ -330,14 +338,18 @@ class HeliModel:
             return ctx
         views = None
         for step in comp.steps:
-            if step.kind == "segment":
-                step.fn(n, c, 1, xfull, 1, xdot, meas, loads, scratch, a.u, a.us, a.w, a.ws,
-                        a.h, a.hs, a.om, a.oms, a.p, a.ps, has, sensed)
-            else:
+            if step.kind == "kernel":
+                step.fn(n, c, xfull, xdot, loads, scratch, a.p, a.ps, *step.offsets)
+            elif step.kind == "numpy":
                 if views is None:
                     views = self._param_views(params, n)
                 eff = self.effects[step.effect_index]
                 step.fn(eff, ctx, views[eff.name])
+            elif step.kind == "totals":
+                staged.load_totals(n, c, loads, has, sensed)
+            else:  # init
+                staged.core_init(n, c, xfull, xdot, loads, a.u, a.us, a.w, a.ws, a.h, a.hs,
+                                 a.om, a.oms, step.effect_index)
         return ctx
 
     def rates_and_measurement(self, x, u, w=None, env=None, params=None):
