@@ -220,3 +220,17 @@ def test_lever_arm_changes_accelerometers_but_not_gyros():
     meas = b[["acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"]].to_numpy() - a[
         ["acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"]].to_numpy()
     assert np.allclose(meas, d, atol=1e-4)  # same noise draws, shifted by the lever arm
+
+
+def test_servo_delay_makes_the_blade_pitch_trail_the_recorded_command():
+    # the pure delay sits before the lag: the rotor sees the RC command 30 ms late
+    r = run_scenario(short_scenario(segments=CHIRP, duration_s=3.0, hidden={
+        "servo_lag": {"tau_swash_s": 0.002, "tau_tail_s": 0.002, "delay_s": 0.03}}))
+    df = r.flight_table().df
+    t = df["t_s"].to_numpy()
+    rec = df["delta_lat_rad"].to_numpy()
+    got = df["truth_delta_lat_rad"].to_numpy()
+    sel = (t > 1.0) & (t < 2.9)
+    lags = np.arange(0.0, 0.06, 0.001)
+    err = [np.sqrt(np.mean((np.interp(t[sel] - d, t, rec) - got[sel]) ** 2)) for d in lags]
+    assert lags[int(np.argmin(err))] == pytest.approx(0.03 + 0.002, abs=0.003)
