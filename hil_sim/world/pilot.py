@@ -4,8 +4,10 @@ Script (`[[pilot.segments]]` in a scenario), each segment one table with a `type
 
     hover   duration_s                       hold the current target
     goto    duration_s, position_m, yaw_deg? minimum-jerk move of the target
-    path    waypoints_m, speed_m_s, yaw_deg?  minimum-jerk legs through the waypoints
-    sweep   a_m, b_m, passes, speed_m_s      back and forth between a and b (starts at a)
+    path    waypoints_m, speed_m_s, accel_m_s2?, yaw_deg?   minimum-jerk legs through the
+            waypoints, each sized so its peak speed and acceleration (default 1.5 m/s^2)
+            stay within the limits
+    sweep   a_m, b_m, passes, speed_m_s, accel_m_s2?   back and forth between a and b
     chirp   duration_s, channel, amplitude_deg, f0_hz, f1_hz   hold + frequency sweep on
             one input channel (col, lat, lon, ped), "oscillatory tilting at varying
             frequency" (reference §5.3)
@@ -71,6 +73,7 @@ class Segment:
     yaw_deg: float | None = None
     waypoints_m: tuple[Vec3, ...] = ()
     speed_m_s: float = 1.0
+    accel_m_s2: float = 1.5
     a_m: Vec3 | None = None
     b_m: Vec3 | None = None
     passes: int = 2
@@ -85,6 +88,7 @@ class Segment:
         check_choice("type", self.type, SEGMENT_TYPES)
         check_nonnegative("duration_s", self.duration_s)
         check_positive("speed_m_s", self.speed_m_s)
+        check_positive("accel_m_s2", self.accel_m_s2)
         check_choice("channel", self.channel, CHANNELS)
         for c in self.channels:
             check_choice("channels", c, CHANNELS)
@@ -206,9 +210,11 @@ def script_duration(cfg: PilotConfig) -> float:
     return sum(d for _, _, d in _legs(cfg))
 
 
-def _leg_time(a: np.ndarray, b: np.ndarray, speed: float) -> float:
-    # a minimum-jerk leg peaks at 1.875 x its mean speed: size it so the peak is `speed`
-    return max(1.875 * float(np.linalg.norm(b - a)) / speed, 1.0)
+def _leg_time(a: np.ndarray, b: np.ndarray, speed: float, accel: float) -> float:
+    # a minimum-jerk leg of length L over T peaks at 1.875 L/T in speed and 5.774 L/T^2
+    # in acceleration: size it so neither exceeds the segment's limits
+    length = float(np.linalg.norm(b - a))
+    return max(1.875 * length / speed, math.sqrt(5.774 * length / accel), 1.0)
 
 
 def _legs(cfg: PilotConfig):
@@ -231,7 +237,7 @@ def _legs(cfg: PilotConfig):
             dur = 0.0
             for p in points:
                 if np.linalg.norm(p - here) > 1e-9:
-                    leg = _leg_time(here, p, seg.speed_m_s)
+                    leg = _leg_time(here, p, seg.speed_m_s, seg.accel_m_s2)
                     moves.append((here, p, leg))
                     dur += leg
                     here = p
