@@ -11,22 +11,23 @@ injected deterministically and counted exactly.
 cuts the link for outages (stall, unplug: every byte of the window dropped), and keeps an
 exact account of what the receiver will see. Frames are the byte runs between 0x00
 delimiters (COBS framing); a receiver splitting the delivered stream on 0x00 sees each
-non-empty run ("segment") either as exactly one frame the board sent — *intact*: all its
-bytes delivered unchanged, nothing else in the run — or as one segment to reject.
-Counting that from the masks (no decoding) gives, per link:
+non-empty run ("segment") either as a frame a board sent — its bytes exactly — or as
+one segment to reject. The account, from the injector's side (no decoding):
 
-- `bad_segments`: non-empty delivered runs that are not an intact valid frame — exactly
-  the receiver's error count (CRC, COBS, unknown id, oversize... one each);
-- `frames_in` / `frames_intact`: frames the board sent / delivered intact;
+- `bad_segments`: delivered runs that are not a frame a board sent — the receiver's
+  error count (CRC, COBS, unknown id, oversize: one each), barring a corrupted run that
+  happens to pass the CRC-16 (~1 in 65536);
+- `frames_in` / `frames_intact`: frames that entered the link / left it intact;
 - `bytes_lost`, `bits_flipped`, `bytes_cut` (outages): what was injected.
 
 Chains: the rover's frames reach the host through the base, which forwards every
 segment of its rover port as one segment (`0x00 seg 0x00`), in pieces of at most
 `BASE_FORWARD_MAX` bytes. The rover link's bad runs (split like the forwarder does)
-go into `bad_out`, a multiset the base link takes as `upstream_bad`: a segment
-that reaches the base link already bad and crosses it untouched is still one error for
-the receiver. Segments cut by a board reset (the board drops the rest of a frame it
-was sending) are marked with `cut_open_segment()`.
+go into `bad_out`, a multiset the base link takes as `upstream_bad` (a run that reaches
+the base already bad is not a frame the base sent), and the rover link publishes the
+frames the rover sent into the base link's `valid` set (`publish_valid`). Segments cut
+by a board reset (the board drops the rest of a frame it was sending) are marked with
+`cut_open_segment()`.
 
 With `log_frames`, every frame's identity (origin, msg_id, seq, board_time_us: the
 frame header) is logged as it enters the link (`sent`, with `touched` = any of its
@@ -37,6 +38,7 @@ from __future__ import annotations
 
 import errno
 import fcntl
+import itertools
 import os
 import select
 import struct
@@ -44,7 +46,7 @@ import termios
 import time
 import tty
 from collections import Counter
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -81,27 +83,51 @@ class LinkCounters:
     frames_in: int = 0
     frames_intact: int = 0
     bad_segments: int = 0
-    upstream_bad_passed: int = 0
+    upstream_bad_in: int = 0
     reset_cuts: int = 0
 
     def to_dict(self) -> dict:
         return asdict(self)
 
 
-@dataclass
-class _OutRun:
-    """The delivered run being assembled (bytes since the last delivered 0x00)."""
+class FrameSet:
+    """A multiset of frame contents (encoded, between delimiters) with a bounded memory:
+    the oldest entries go first (a frame is delivered within a few steps or never)."""
 
-    data: bytearray = field(default_factory=bytearray)
-    clean: bool = True
-    src: int = -2  # input segment of every byte so far; -2 none yet, -1 mixed
+    def __init__(self, limit: int = 50_000) -> None:
+        self.limit = limit
+        self._c: Counter = Counter()
+
+    def add(self, seg: bytes) -> None:
+        self._c[seg] += 1
+        if len(self._c) > self.limit:
+            for k in list(itertools.islice(self._c, len(self._c) - self.limit // 2)):
+                del self._c[k]
+
+    def take(self, seg: bytes) -> bool:
+        """Remove one `seg`; False if there is none."""
+        n = self._c.get(seg, 0)
+        if n <= 0:
+            return False
+        if n == 1:
+            del self._c[seg]
+        else:
+            self._c[seg] = n - 1
+        return True
 
 
 class Impairment:
     """Byte loss, bit flips and outages on one direction of one link, counted exactly.
 
-    `feed(data, outage)` returns the bytes to deliver. The random draws use `rng` in
-    feed order, so a stepped run (same chunks) injects the same faults.
+    `feed(data, t_us, outage)` returns the bytes to deliver. The random draws use `rng`
+    in feed order, so a stepped run (same chunks) injects the same faults.
+
+    A delivered run is a valid frame when its bytes are exactly a frame some board sent
+    (`valid`: the frames that entered this link and, on a chain, those that entered the
+    links upstream, which publish them here through `publish_valid`): exactly when the
+    receiver accepts it, even for a frame that reached this link inside a run corrupted
+    upstream and had the rest of that run cut off here. Every other non-empty run is
+    one receiver error.
     """
 
     def __init__(self, name: str, *, loss_probability: float = 0.0,
@@ -118,16 +144,16 @@ class Impairment:
         self.piece_max = piece_max
         self.log_frames = log_frames
         self.counters = LinkCounters()
+        self.valid = FrameSet()  # what a delivered run may be (class doc)
+        self.publish_valid: list[FrameSet] = []  # downstream links' `valid`
         self.bad_out: Counter = Counter()  # bad runs as the next hop receives them
         self.sent: list[tuple] = []  # (t_us, identity, touched)
         self.delivered: list[tuple] = []  # (t_us, identity)
-        self._seg = 0  # index of the open input segment
         self._in_open = bytearray()
+        self._in_cut = False  # the open input segment was cut by a board reset
         self._in_touched = False  # any byte of the open input segment impaired
         self._prev_delim_touched = False
-        self._in_len: dict[int, int] = {}
-        self._in_bad: set[int] = set()
-        self._out = _OutRun()
+        self._out = bytearray()  # the delivered run since the last delivered 0x00
 
     @property
     def impaired(self) -> bool:
@@ -142,7 +168,6 @@ class Impairment:
             return b""
         c = self.counters
         c.bytes_in += n
-        b = np.frombuffer(data, dtype=np.uint8)
         if outage:
             keep = np.zeros(n, dtype=bool)
             c.bytes_cut += n
@@ -162,142 +187,83 @@ class Impairment:
                     flip[~keep] = 0
                 c.bits_flipped += int(np.unpackbits(flip).sum())
         if keep is None and flip is None:
-            self._feed_clean(data, t_us)
-            c.bytes_out += n
-            return data
-        src = self._src_index(b)  # before the input accounting advances self._seg
-        self._account_input(b, keep, flip, t_us)
-        touched = np.zeros(n, dtype=bool)
-        vals = b
-        if flip is not None:
-            vals = b ^ flip
-            touched |= flip != 0
-        if keep is not None:
-            touched |= ~keep
-            vals, src, clean = vals[keep], src[keep], ~touched[keep]
+            self._input(data, None, t_us)
+            out = data
         else:
-            clean = ~touched
-        out = vals.tobytes()
-        self._account_output(np.frombuffer(out, np.uint8), clean, src, t_us)
+            b = np.frombuffer(data, dtype=np.uint8)
+            touched = np.zeros(n, dtype=bool)
+            vals = b
+            if flip is not None:
+                touched |= flip != 0
+                vals = b ^ flip
+            if keep is not None:
+                touched |= ~keep
+                vals = vals[keep]
+            self._input(data, touched, t_us)
+            out = vals.tobytes()
+        self._output(out, t_us)
         c.bytes_out += len(out)
         return out
 
-    def _feed_clean(self, data: bytes, t_us: int) -> None:
-        """`feed` for a chunk with nothing impaired: output = input, segment by segment."""
+    def _input(self, data: bytes, touched: np.ndarray | None, t_us: int) -> None:
+        """Close the input segments this chunk completes (the frames the board sent)."""
         parts = data.split(b"\x00")
-        for part in parts[:-1]:
-            j = self._seg
-            self._in_open += part
-            touched = self._in_touched or self._prev_delim_touched
-            self._close_input(t_us, touched)
-            self._prev_delim_touched = False
-            if part:
-                self._extend_clean(self._out, part, j)
-            self._finish_run(self._out, t_us)
-            self._out = _OutRun()
-        last = parts[-1]
-        if last:
-            self._in_open += last
-            self._extend_clean(self._out, last, self._seg)
-        if len(self._in_len) > 256:
-            r = self._out
-            low = r.src if r.src >= 0 else self._seg
-            for j in [j for j in self._in_len if j < low]:
-                del self._in_len[j]
-            self._in_bad = {j for j in self._in_bad if j >= low}
-
-    @staticmethod
-    def _extend_clean(r: _OutRun, part: bytes, j: int) -> None:
-        r.data += part
-        if r.src == -2:
-            r.src = j
-        elif r.src != j:
-            r.src = -1
-
-    def _src_index(self, b: np.ndarray) -> np.ndarray:
-        """Input segment index of each byte of the chunk (a delimiter closes its segment)."""
-        z = (b == 0).astype(np.int64)
-        return self._seg + np.cumsum(z) - z
-
-    def _account_input(self, b: np.ndarray, keep, flip, t_us: int) -> None:
-        """Segment lengths, contents, upstream-bad marks and (for logs) touched flags;
-        advances `_seg` past every delimiter of the chunk."""
-        bad = np.zeros(b.size, dtype=bool)
-        if keep is not None:
-            bad |= ~keep
-        if flip is not None:
-            bad |= flip != 0
-        data = b.tobytes()
-        start = 0
-        for z in np.flatnonzero(b == 0):
-            z = int(z)
-            self._in_open += data[start:z]
-            delim_touched = bool(bad[z])
-            touched = (self._in_touched or bool(bad[start:z].any()) or delim_touched
-                       or self._prev_delim_touched)
-            self._close_input(t_us, touched)
-            self._prev_delim_touched = delim_touched
-            start = z + 1
-        self._in_open += data[start:]
-        self._in_touched = self._in_touched or bool(bad[start:].any())
+        if touched is None:
+            for part in parts[:-1]:
+                self._in_open += part
+                self._close_input(t_us, self._in_touched or self._prev_delim_touched)
+                self._prev_delim_touched = False
+        else:
+            pos = 0
+            for part in parts[:-1]:
+                end = pos + len(part)
+                self._in_open += part
+                seg_touched = self._in_touched or bool(touched[pos:end].any())
+                delim = bool(touched[end])
+                self._close_input(t_us, seg_touched or delim or self._prev_delim_touched)
+                self._prev_delim_touched = delim
+                pos = end + 1
+            if touched[pos:].any():
+                self._in_touched = True
+        self._in_open += parts[-1]
 
     def _close_input(self, t_us: int, touched: bool) -> None:
         seg = bytes(self._in_open)
-        j = self._seg
-        self._in_len[j] = len(seg)
-        if seg:
-            self.counters.frames_in += 1
-            if self.upstream_bad is not None and self.upstream_bad.get(seg, 0) > 0:
-                self.upstream_bad[seg] -= 1
-                self._in_bad.add(j)
-            elif self.log_frames and j not in self._in_bad:
-                ident = frame_identity(seg)
-                if ident is not None:
-                    self.sent.append((t_us, ident, touched))
+        cut = self._in_cut
         self._in_open = bytearray()
         self._in_touched = False
-        self._seg += 1
-
-    def _account_output(self, out: np.ndarray, clean: np.ndarray, src: np.ndarray,
-                        t_us: int) -> None:
-        r = self._out
-        data = out.tobytes()
-        start = 0
-        for z in np.flatnonzero(out == 0):
-            z = int(z)
-            self._extend(r, data, clean, src, start, z)
-            self._finish_run(r, t_us)
-            r = self._out = _OutRun()
-            start = z + 1
-        self._extend(r, data, clean, src, start, len(data))
-        # forget input segments no delivered run can still be an intact copy of
-        if len(self._in_len) > 256:
-            low = r.src if r.src >= 0 else self._seg
-            for j in [j for j in self._in_len if j < low]:
-                del self._in_len[j]
-            self._in_bad = {j for j in self._in_bad if j >= low}
-
-    @staticmethod
-    def _extend(r: _OutRun, data: bytes, clean: np.ndarray, src: np.ndarray, a: int,
-                b: int) -> None:
-        if b <= a:
-            return
-        r.data += data[a:b]
-        if r.clean and not bool(clean[a:b].all()):
-            r.clean = False
-        s0, s1 = int(src[a]), int(src[b - 1])
-        if r.src == -2:
-            r.src = s0 if s0 == s1 else -1
-        elif r.src != s0 or s0 != s1:
-            r.src = -1
-
-    def _finish_run(self, r: _OutRun, t_us: int) -> None:
-        if not r.data:
+        self._in_cut = False
+        if not seg:
             return
         c = self.counters
-        seg = bytes(r.data)
-        intact = (r.clean and r.src >= 0 and self._in_len.get(r.src) == len(seg))
-        if intact and r.src not in self._in_bad:
+        c.frames_in += 1
+        if self.upstream_bad is not None and self.upstream_bad.get(seg, 0) > 0:
+            self.upstream_bad[seg] -= 1  # bad already when it reached this link
+            c.upstream_bad_in += 1
+            return
+        if cut:
+            return
+        self.valid.add(seg)
+        for v in self.publish_valid:
+            v.add(seg)
+        if self.log_frames:
+            ident = frame_identity(seg)
+            if ident is not None:
+                self.sent.append((t_us, ident, touched))
+
+    def _output(self, out: bytes, t_us: int) -> None:
+        parts = out.split(b"\x00")
+        for part in parts[:-1]:
+            self._out += part
+            self._finish_run(bytes(self._out), t_us)
+            self._out = bytearray()
+        self._out += parts[-1]
+
+    def _finish_run(self, seg: bytes, t_us: int) -> None:
+        if not seg:
+            return
+        c = self.counters
+        if self.valid.take(seg):
             c.frames_intact += 1
             if self.log_frames:
                 ident = frame_identity(seg)
@@ -305,8 +271,6 @@ class Impairment:
                     self.delivered.append((t_us, ident))
             return
         c.bad_segments += 1
-        if intact:
-            c.upstream_bad_passed += 1
         step = self.piece_max or len(seg)
         for i in range(0, len(seg), step):
             self.bad_out[seg[i:i + step]] += 1
@@ -315,7 +279,7 @@ class Impairment:
         """The board reset while sending: the frame it was sending is cut short, so the
         segment now open (if it has bytes) can never be a valid frame."""
         if self._in_open:
-            self._in_bad.add(self._seg)
+            self._in_cut = True
             self.counters.reset_cuts += 1
 
     def summary(self) -> dict:

@@ -254,6 +254,7 @@ class SilRun:
                 piece_max=BASE_FORWARD_MAX if chained else None, log_frames=self.log_frames)
         if "rover" in self.links and "base" in self.links:
             self.links["base"].upstream_bad = self.links["rover"].bad_out
+            self.links["rover"].publish_valid.append(self.links["base"].valid)
 
     def _schedule(self) -> list[_Outage]:
         out = []
@@ -566,13 +567,6 @@ class SilRun:
                     o.state = "reopening"  # until the daemon has the new pty open
                 else:
                     o.state = "done"
-            if o.state == "reopening":
-                pty = self.ptys[o.board]
-                data = pty.receive()
-                if data:  # the daemon opened it (its first write): deliver from now on
-                    o.state = "done"
-                    o.record["reopened_s"] = t0 / 1e6
-                    self.host_rx[o.board] += data
 
     def _deliver(self) -> None:
         """Write the step's bytes to the ptys; wait (wall time) while the daemon is
@@ -598,6 +592,11 @@ class SilRun:
             data = pty.receive()
             if not data:
                 continue
+            for o in self._outages:
+                if o.board == b and o.state == "reopening":
+                    # the daemon opened the new pty (its first write): deliver from now on
+                    o.state = "done"
+                    o.record["reopened_s"] = t_us / 1e6
             if self._outage(b, t_us):
                 self.host_rx_cut[b] += len(data)
             else:
@@ -820,7 +819,9 @@ def _rig_dict(rig: SilRig) -> dict:
 def _faults_dict(faults) -> dict:
     from hil_sim.sensors.config import config_to_dict
 
-    return config_to_dict(faults)
+    d = config_to_dict(faults)
+    d["boards"] = {b: config_to_dict(lf) for b, lf in faults.boards.items()}
+    return d
 
 
 def _json_default(obj):

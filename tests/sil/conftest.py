@@ -6,7 +6,8 @@
   and bit flips on the LOSA link, the marker's link throttled to 57600 baud, loss and
   flips on the rover's XBee link to the base, the base's pty unplugged for 1 s, the
   LOSA link stalled for 0.5 s, the rover reset.
-- `crash_flight`: rover + base; the daemon is killed with SIGKILL after 5 s.
+- `crash_flight`: rover + base, wall-paced (real time, the daemon on its own clock); the
+  daemon is killed with SIGKILL after 4 s.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from sil_harness import run_flight, shared_flight
 
 CLEAN_S = 12.0
 FAULT_S = 12.0
-CRASH_KILL_S = 5.0
+CRASH_KILL_S = 4.0
 
 FAULT_SCENARIO = """
 extends = "still_air_calibration"
@@ -93,6 +94,6 @@ def crash_flight(tmp_path_factory):
 
         sc = load_scenario("still_air_calibration")
         run_flight(d, sc, duration_s=CRASH_KILL_S + 2.0, rig=rig_for(sc, ("rover", "base")),
-                   export=False, during=kill, keep_delivered=True)
+                   export=False, during=kill, keep_delivered=True, mode="wall")
 
     return shared_flight(tmp_path_factory, "crash", make)
