@@ -79,8 +79,7 @@ lint: venv
 	$(VENV)/bin/ruff check host hil_sim tests protocol
 
 demo: setup native
-	@if [ -x demo/run.sh ]; then demo/run.sh; else \
-	  echo "make demo: not wired yet (the SIL flight + report arrives with the daemon work)"; fi
+	$(PY) -m hil_sim.boards.demo
 
 clean:
 	rm -rf build

@@ -97,13 +97,16 @@ def format_report(result) -> str:
         lines.append(f"  port {role}: {p.get('frames', 0)} frames, {p.get('bytes', 0)} bytes, "
                      f"opens {p.get('opens', 0)}, seq lost {p.get('seq_lost', 0)}, errors "
                      f"{err or 'none'}")
+    duration = s["duration_s"] or 1.0
     for name, b in sorted(st.get("boards", {}).items()):
-        rates = ", ".join(f"{k} {v:.0f}" for k, v in sorted(b.get("rates_hz", {}).items())
-                          if v >= 1)
+        # mean rates over the flight (in stepped mode host time is simulator time)
+        rates = ", ".join(f"{k} {n / duration:.0f}" for k, n in sorted(b.get("frames",
+                                                                           {}).items())
+                          if n / duration >= 1 and k != "schema_entry")
         clock = b.get("clock") or {}
-        lines.append(f"  board {name}: boot {b.get('boot_count')}, epochs "
-                     f"{clock.get('epochs')}, drift {clock.get('drift_ppm', 0):+.1f} ppm; "
-                     f"Hz: {rates}")
+        lost = sum((b.get("seq_lost") or {}).values())
+        lines.append(f"  board {name}: boot count {b.get('boot_count')}, clock epochs "
+                     f"{clock.get('epochs')}, frames lost (seq gaps) {lost}; Hz: {rates}")
     injected = {k: v for k, v in s["faults"]["links"].items()
                 if v["bytes_lost"] or v["bits_flipped"] or v["bytes_cut"] or v["reset_cuts"]}
     for name, v in injected.items():

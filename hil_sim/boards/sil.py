@@ -199,6 +199,7 @@ class SilRun:
             raise SilError(f"--out {self.out}: exists and is not an empty directory; "
                            "choose a new recording directory")
         t0 = time.perf_counter()
+        self._outages = self._schedule()  # validates the fault events first
         self._executables()
         from hil_sim.world.run import build_config, run_scenario
 
@@ -208,7 +209,6 @@ class SilRun:
         self.rngs = sil_rngs(self.seed)
         self.feeds = BoardFeeds.build(self.world, self.rig, self.rngs)
         self._build_links()
-        self._outages = self._schedule()
         self._resets = sorted((int(round(e.at_s * 1e6)), e.board) for e in self.faults.resets
                               if e.board in self.rig.boards)
         self._tmp = Path(tempfile.mkdtemp(prefix="airwake-sil-"))
