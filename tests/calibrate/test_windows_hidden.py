@@ -112,3 +112,13 @@ def test_a_parameter_set_that_breaks_the_rotor_is_invalid_not_fatal(model, short
     assert np.all(np.isfinite(z[[0, 2]])) and np.all(np.isnan(z[1]))
     r, valid = pred.residuals(np.stack([bad]))
     assert not valid[0]
+
+
+def test_streamed_cost_equals_the_rms_of_the_stored_residuals(model, short_flight):
+    # the PSO's cost never stores K x samples predictions; it must mean the same thing
+    data = FlightData.from_flight(model, short_flight)
+    pred = WindowedPredictor(model, data, make_windows(data, 1.0, 0.5))
+    sets = np.stack([model.parameter_vector(),
+                     model.with_parameters({"rigid_body.Iyy_kg_m2": 1.0}).parameter_vector()])
+    r, _ = pred.residuals(sets)
+    np.testing.assert_allclose(pred.cost(sets), np.sqrt(np.mean(r * r, axis=1)), rtol=1e-12)

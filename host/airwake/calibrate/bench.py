@@ -83,7 +83,7 @@ def run(quick: bool = False) -> dict:
 
     # PSO: 2000 particles, a few iterations measured, time extrapolated to 500
     particles = 200 if quick else 2000
-    iters = 2 if quick else 4
+    iters = 2
     data = FlightData.from_flight(model, ft)
     pred = WindowedPredictor(model, data, make_windows(data))
     free = select_parameters(model)

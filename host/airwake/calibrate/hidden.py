@@ -175,16 +175,16 @@ class HiddenPropagator:
         return self._mats[key]
 
     def step_matrices(self, dt: float | None = None):
-        """(M_pred (K, 3m, m), Phi2^T/dt (K, m, m)) for right-multiplying row vectors:
-        h_pred = [h_n, g_n, g_{n-1}] @ M_pred, h_{n+1} = h_pred + (g_{n+1} - 2 g_n +
-        g_{n-1}) @ Phi2^T/dt (the corrector rewritten around the prediction)."""
+        """(E^T, (Phi1 + Phi2/dt)^T, (Phi2/dt)^T), each (K, m, m) C-contiguous, for
+        right-multiplying row vectors (see predict/correct)."""
         key = ("rows", round(float(self.dt if dt is None else dt), 12))
         if key not in self._mats:
             e, phi1, phi2 = self.matrices(key[1])
-            t = np.swapaxes
-            m_pred = np.ascontiguousarray(
-                np.concatenate([t(e, 1, 2), t(phi1 + phi2, 1, 2), -t(phi2, 1, 2)], axis=1))
-            self._mats[key] = (m_pred, np.ascontiguousarray(t(phi2, 1, 2)))
+
+            def t(a):
+                return np.ascontiguousarray(np.swapaxes(a, 1, 2))
+
+            self._mats[key] = (t(e), t(phi1 + phi2), t(phi2))
         return self._mats[key]
 
     # -- stepping -----------------------------------------------------------------------
@@ -207,17 +207,23 @@ class HiddenPropagator:
             h = h - np.matmul(f, a_inv_t)
         return h
 
-    def predict(self, block: np.ndarray, dt: float | None = None) -> np.ndarray:
-        """Predictor h^p_{n+1} (K, R, m) from block (K, R, 3, m) = [h_n, g_n, g_{n-1}]."""
-        k, r, _, m = block.shape
-        m_pred, _ = self.step_matrices(dt)
-        return np.matmul(block.reshape(k, r, 3 * m), m_pred)
+    def _mats_for(self, h, dt):
+        mats = self.step_matrices(dt)
+        return tuple(m[0] for m in mats) if h.ndim == 2 else mats
 
-    def correct(self, block: np.ndarray, h_pred: np.ndarray, g_next: np.ndarray,
-                dt: float | None = None) -> None:
-        """Corrector, in place: block [h_n, g_n, g_{n-1}] -> [h_{n+1}, g_{n+1}, g_n]."""
-        _, phi2_t = self.step_matrices(dt)
-        h, g, g_prev = block[:, :, 0], block[:, :, 1], block[:, :, 2]
-        h[...] = h_pred + np.matmul(g_next - 2.0 * g + g_prev, phi2_t)
-        g_prev[...] = g
-        g[...] = g_next
+    def predict(self, h, g, g_prev, dt: float | None = None) -> np.ndarray:
+        """Predictor h^p_{n+1} (K, R, m) from h_n, g_n, g_{n-1} (each (K, R, m); or
+        (R, m) when K = 1)."""
+        e_t, p1_t, p2_t = self._mats_for(h, dt)
+        out = np.matmul(h, e_t)
+        out += np.matmul(g, p1_t)
+        out -= np.matmul(g_prev, p2_t)
+        return out
+
+    def correct(self, h_pred, g, g_prev, g_next, dt: float | None = None) -> np.ndarray:
+        """Corrector h_{n+1} = h^p_{n+1} + (Phi2/dt)(g_{n+1} - 2 g_n + g_{n-1}) (the
+        trapezoid E h_n + Phi1 g_n + (Phi2/dt)(g_{n+1} - g_n) written around h^p)."""
+        _, _, p2_t = self._mats_for(h_pred, dt)
+        d = g_next - 2.0 * g
+        d += g_prev
+        return h_pred + np.matmul(d, p2_t)

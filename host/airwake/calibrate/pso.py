@@ -122,12 +122,7 @@ def fit_pso(model, predictor: WindowedPredictor, free: np.ndarray, rng,
     else:
         sub = predictor
 
-    def cost(sets):
-        r, valid = sub.residuals(sets)
-        out = np.sqrt(np.mean(r * r, axis=1))
-        return np.where(valid, out, np.inf)
-
-    st, history = run_pso(cost, full0, free, lo, hi, n_particles, iterations, rng, spread,
+    st, history = run_pso(sub.cost, full0, free, lo, hi, n_particles, iterations, rng, spread,
                           progress)
     best = st.global_best
     fitted = model.with_parameters(best)

@@ -181,39 +181,65 @@ class WindowedPredictor:
         self.evaluations = 0  # parameter-set evaluations (for reports)
 
     def predict(self, param_sets: np.ndarray, wind=None):
-        with single_blas_thread():
-            return self._predict(param_sets, wind)
-
-    def _predict(self, param_sets: np.ndarray, wind=None):
         """param_sets (K, P) -> (z (K, W, L, 6), valid (K,) bool). Sets whose rotor
         dynamics cannot be linearised or whose prediction is not finite are invalid
         (their z is NaN)."""
-        model, data, win = self.model, self.data, self.windows
         sets = np.atleast_2d(np.asarray(param_sets, dtype=float))
-        k = sets.shape[0]
-        w_count, length = win.idx.shape
-        valid = np.ones(k, dtype=bool)
-        prop = HiddenPropagator(model, data.dt, sets, data.reference_row())
-        valid &= prop.valid
-        rows_params = np.repeat(sets, w_count, axis=0)
-        wind_row = np.zeros((1, 6)) if wind is None else np.atleast_2d(wind)
-        z = np.empty((k, w_count, length, 6))
-        h = np.repeat(prop.h_ref[:, None, :], w_count, 1)
-        with np.errstate(all="ignore"):
-            rows = self._rows(win.idx[:, 0], k, wind_row)
-            h = prop.quasi_steady(h, rows, rows_params)
-            g, _, z[:, :, 0] = prop.evaluate(h, rows, rows_params)
-            block = np.stack([h, g, g], axis=2)  # (K, W, 3, m): h, g, g_prev
-            for j in range(1, length):
-                h_pred = prop.predict(block)
-                g_new, _, z[:, :, j] = prop.evaluate(h_pred, self._rows(win.idx[:, j], k,
-                                                                         wind_row), rows_params)
-                prop.correct(block, h_pred, g_new)
-        self.evaluations += k
-        finite = np.all(np.isfinite(z), axis=(1, 2, 3))
-        valid &= finite
+        w_count, length = self.windows.idx.shape
+        z = np.empty((sets.shape[0], w_count, length, 6))
+
+        def keep(j, zj):
+            z[:, :, j] = zj
+
+        valid = self._run(sets, wind, keep)
+        valid &= np.all(np.isfinite(z), axis=(1, 2, 3))
         z[~valid] = np.nan
         return z, valid
+
+    def cost(self, param_sets: np.ndarray, wind=None) -> np.ndarray:
+        """(K,) RMS of the weighted residuals over the scored samples, inf for invalid
+        sets; accumulated step by step, so memory does not grow with K x samples (the
+        PSO swarm)."""
+        sets = np.atleast_2d(np.asarray(param_sets, dtype=float))
+        win, data = self.windows, self.data
+        zm = data.z[win.idx] / data.scale  # (W, L, 6)
+        ss = np.zeros(sets.shape[0])
+
+        def accumulate(j, zj):
+            e = zm[:, j][None] - zj / data.scale  # (K, W, 6)
+            e *= win.score[:, j][None, :, None]
+            ss[:] += np.einsum("kwc,kwc->k", e, e)
+
+        valid = self._run(sets, wind, accumulate)
+        rms = np.sqrt(ss / max(6 * win.n_scored, 1))
+        return np.where(valid & np.isfinite(rms), rms, np.inf)
+
+    def _run(self, sets: np.ndarray, wind, on_step) -> np.ndarray:
+        """Propagate all windows of all sets; on_step(j, z_j (K, W, 6)) per step j.
+        Returns the valid mask (K,) of the linearisation."""
+        with single_blas_thread():
+            model, data, win = self.model, self.data, self.windows
+            k = sets.shape[0]
+            w_count, length = win.idx.shape
+            prop = HiddenPropagator(model, data.dt, sets, data.reference_row())
+            rows_params = np.repeat(sets, w_count, axis=0)
+            wind_row = np.zeros((1, 6)) if wind is None else np.atleast_2d(wind)
+            h = np.repeat(prop.h_ref[:, None, :], w_count, 1)
+            with np.errstate(all="ignore"):
+                rows = self._rows(win.idx[:, 0], k, wind_row)
+                h = prop.quasi_steady(h, rows, rows_params)
+                g, _, zj = prop.evaluate(h, rows, rows_params)
+                on_step(0, zj)
+                g_prev = g
+                for j in range(1, length):
+                    h_pred = prop.predict(h, g, g_prev)
+                    g_new, _, zj = prop.evaluate(
+                        h_pred, self._rows(win.idx[:, j], k, wind_row), rows_params)
+                    on_step(j, zj)
+                    h = prop.correct(h_pred, g, g_prev, g_new)
+                    g_prev, g = g, g_new
+            self.evaluations += k
+            return prop.valid.copy()
 
     def _rows(self, idx: np.ndarray, k: int, wind_row) -> RowBatch:
         d = self.data

@@ -16,8 +16,9 @@ Per sample k (the model supplies the physics, this class only the algorithm):
      = multinomial with threshold 1, i.e. every sample), then regularise: every wind gets
      a Gaussian kernel jitter with covariance (b h_opt)^2 Sigma + floor^2, Sigma the
      weighted covariance before resampling, h_opt = (4/(N (d+2)))^(1/(d+4)) (Silverman;
-     Musso, Oudjane & Le Gland 2001), b = `jitter`, floor = 10 % of the process step,
-     so the cloud never collapses onto a few copies.
+     Musso, Oudjane & Le Gland 2001), b = `jitter` (0.2: b = 1 resampled on most samples
+     acts as a large extra process noise, see docs/wind-estimation.md), floor = 10 % of
+     the process step, so the cloud never collapses onto a few copies.
 """
 
 from __future__ import annotations

@@ -35,24 +35,27 @@ BOUNDS = (15.0, 15.0, 8.0, 3.0, 3.0, 3.0)  # |component| never exceeds these
 
 @dataclass
 class Particles:
-    """wind (N, 6) and rotor (N, 3, m): per particle the rotor states h at the current
-    sample, the rotor-state remainder g there and g at the previous sample (one block so
-    resampling copies one array). `started` is False right after a (re)start, when h is
-    quasi-steady and g not yet known."""
+    """wind (N, 6); hidden (N, m) rotor states at the current sample; g, g_prev (N, m)
+    the rotor-state remainder at the current and the previous sample (None right after
+    a (re)start, when the rotor states are quasi-steady)."""
 
     wind: np.ndarray
-    rotor: np.ndarray
-    started: bool = False
+    hidden: np.ndarray
+    g: np.ndarray | None = None
+    g_prev: np.ndarray | None = None
 
     @property
-    def hidden(self) -> np.ndarray:
-        return self.rotor[:, 0]
+    def started(self) -> bool:
+        return self.g is not None
 
     def __len__(self) -> int:
         return self.wind.shape[0]
 
     def take(self, idx: np.ndarray) -> Particles:
-        return Particles(self.wind[idx], self.rotor[idx], self.started)
+        def pick(a):
+            return None if a is None else a[idx]
+
+        return Particles(self.wind[idx], self.hidden[idx], pick(self.g), pick(self.g_prev))
 
 
 class WindMeasurementModel:
@@ -117,9 +120,7 @@ class WindMeasurementModel:
         """Wind uniform in +-init_half_width, rotor states quasi-steady at sample 0."""
         wind = rng.uniform(-1.0, 1.0, (n, 6)) * self.init_half_width
         wind = np.clip(wind, -self.bounds, self.bounds)
-        rotor = np.zeros((n, 3, self.prop.m))
-        rotor[:, 0] = self.prop.h_ref[0]
-        p = Particles(wind, rotor)
+        p = Particles(wind, np.repeat(self.prop.h_ref[0][None], n, 0))
         self.restart_hidden(p, 0)
         return p
 
@@ -129,14 +130,15 @@ class WindMeasurementModel:
             h = self.prop.quasi_steady(p.hidden[None], rows, None)[0]
         bad = ~np.all(np.isfinite(h), axis=1)
         h[bad] = self.prop.h_ref[0]
-        p.rotor[:, 0] = h
-        p.rotor[:, 1:] = 0.0
-        p.started = False
+        p.hidden = h
+        p.g = p.g_prev = None
 
     def propagate(self, p: Particles, k: int, rng: np.random.Generator) -> None:
         """Random-walk the wind from sample k-1 to k (in place)."""
         step = self.process_std * np.sqrt(self.dt[k - 1])
-        p.wind += rng.standard_normal(p.wind.shape) * step
+        noise = rng.standard_normal(p.wind.shape)
+        noise *= step
+        p.wind += noise
         np.clip(p.wind, -self.bounds, self.bounds, out=p.wind)
         if self.restart[k]:
             self.restart_hidden(p, k)
@@ -146,16 +148,16 @@ class WindMeasurementModel:
         model evaluation at the particles' predicted rotor states, and the remainder g
         there (what `advance` corrects the rotor states with)."""
         if p.started:
-            h = self.prop.predict(p.rotor[None], self.dt[k - 1])[0]
+            h = self.prop.predict(p.hidden, p.g, p.g_prev, self.dt[k - 1])
         else:
-            h = p.rotor[:, 0].copy()
+            h = p.hidden
         self._h_pred = h
         rows = self._rows(k, h, p.wind)
         with np.errstate(all="ignore"):
             xd, z = evaluate_rates_and_measurement(self.model, rows.x, rows.u, rows.w,
                                                    rows.env, None)
-            g = xd[:, self.hid]
-            g -= h @ self._a_t
+            g = xd[:, self._hid_slice] if self._hid_slice is not None else xd[:, self.hid]
+            g = g - h @ self._a_t
         return z, g
 
     def log_likelihood(self, z_hat: np.ndarray, k: int, sigma: float) -> np.ndarray:
@@ -165,21 +167,23 @@ class WindMeasurementModel:
         return np.where(np.isfinite(ll), ll, -np.inf)
 
     def advance(self, p: Particles, g: np.ndarray, k: int) -> None:
-        """Correct the rotor states to sample k with g from `predict` (in place; the
-        corrector of airwake.calibrate.hidden). A particle whose rotor state is no
-        longer finite restarts at the reference."""
-        r = p.rotor
+        """Correct the rotor states to sample k with g from `predict` (the corrector of
+        airwake.calibrate.hidden). A particle whose rotor state is no longer finite
+        restarts at the reference."""
         if p.started:
             with np.errstate(all="ignore"):
-                self.prop.correct(r[None], self._h_pred[None], g[None], self.dt[k - 1])
+                h = self.prop.correct(self._h_pred, p.g, p.g_prev, g, self.dt[k - 1])
+            p.g_prev = p.g
         else:
-            r[:, 1] = g
-            r[:, 2] = g
-        p.started = True
-        bad = ~np.all(np.isfinite(r.reshape(r.shape[0], -1)), axis=1)
+            h = p.hidden
+            p.g_prev = g
+        p.hidden, p.g = h, g
+        bad = ~np.isfinite(h.sum(axis=1) + g.sum(axis=1))
         if bad.any():
-            r[bad, 0] = self.prop.h_ref[0]
-            r[bad, 1:] = 0.0
+            h[bad] = self.prop.h_ref[0]
+            g[bad] = 0.0
+            p.g_prev = p.g_prev.copy()
+            p.g_prev[bad] = 0.0
 
     def clip(self, wind: np.ndarray) -> np.ndarray:
         return np.clip(wind, -self.bounds, self.bounds)
