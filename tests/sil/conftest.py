@@ -5,7 +5,7 @@
 - `fault_flight`: the same flight from a scenario file with a [faults] table: byte loss
   and bit flips on the LOSA link, the marker's link throttled to 57600 baud, loss and
   flips on the rover's XBee link to the base, the base's pty unplugged for 1 s, the
-  LOSA link stalled for 0.5 s, the rover reset.
+  LOSA link stalled for 0.5 s, the rover reset; the boards are the ASan/UBSan builds.
 - `crash_flight`: rover + base, wall-paced (real time, the daemon on its own clock); the
   daemon is killed with SIGKILL after 4 s.
 """
@@ -71,7 +71,9 @@ def fault_flight(tmp_path_factory):
 
         path = d / "faults.toml"
         path.write_text(FAULT_SCENARIO)
-        run_flight(d, load_scenario(path), duration_s=FAULT_S, log_frames=True)
+        # the ASan/UBSan builds: the base's forwarder parses the corrupted XBee bytes
+        run_flight(d, load_scenario(path), duration_s=FAULT_S, log_frames=True,
+                   flavour="asan")
 
     return shared_flight(tmp_path_factory, "faults", make)
 

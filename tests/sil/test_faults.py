@@ -27,6 +27,7 @@ def _events(s, kind):
 def test_faults_were_injected_as_configured_and_recorded_in_the_sidecar(fault_flight):
     # REC/sil/run.json says exactly what each link did
     s = summary(fault_flight)
+    assert s["daemon_exit"] == 0 and all(c == 0 for c in s["board_exit"].values())  # no crash
     links = s["faults"]["links"]
     losa, rover, marker = links["losa"], links["rover"], links["marker"]
     assert losa["loss_probability"] == 0.002 and losa["flip_probability"] == 0.0002
