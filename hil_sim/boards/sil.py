@@ -2,7 +2,7 @@
 
     run = SilRun(load_scenario("still_air_calibration"), out="REC", duration_s=20)
     result = run.run()                  # start(), step() until the end, finish()
-    result.realtime_factor, result.summary["links"], result.daemon_status
+    result.realtime_factor, result.summary["faults"]["links"], result.daemon_status
 
 What happens (docs/sil.md):
 
@@ -17,11 +17,12 @@ What happens (docs/sil.md):
    In stepped mode it runs on the simulator's clock (`simclock`): its receive times,
    and so the exported flight table, are on the flight's own timeline.
 4. Every step (`rig.step_us`, 10 ms) each board runs to the step's end with its inputs
-   (marker first: the LOSA lines of the step need the LED the marker lit), the bytes the
-   boards sent cross their link's `links.Impairment` (faults, counted exactly) to the
-   ptys, and the bytes the daemon wrote (time sync, marker commands) go back to the
-   boards at the next step. Stepped mode runs as fast as the machine allows; wall mode
-   paces every step to CLOCK_MONOTONIC (and the daemon keeps its own clock).
+   (marker first: the LOSA lines of the step need the LED the marker lit; the rover and
+   the base in sub-steps of the XBee latency), the bytes the boards sent cross their
+   link's `links.Impairment` (faults, counted exactly) to the ptys, and the bytes the
+   daemon wrote (time sync, marker commands) go back to the boards. Stepped mode runs as
+   fast as the machine allows with the daemon in lockstep (`step()`); wall mode paces
+   every step to CLOCK_MONOTONIC (and the daemon keeps its own clock).
 5. `finish()` lets the daemon read everything, stops it with SIGINT (a clean, indexed
    recording), stops the boards, and writes `REC/sil/run.json`: the rig, the clock
    offset between host and simulator time, what every link injected, the fault events,
@@ -31,7 +32,6 @@ What happens (docs/sil.md):
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import signal
 import subprocess
@@ -43,10 +43,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from airwake.errors import AirwakeError
 
 from hil_sim.boards.channel import REPO_ROOT, ChannelError, NativeBoard, executable
 from hil_sim.boards.feeds import BoardFeeds
+from hil_sim.boards.host import HostDaemon, SilError, cpu_seconds
 from hil_sim.boards.links import BASE_FORWARD_MAX, Impairment, PtyPort
 from hil_sim.boards.rig import SilRig, rig_for
 from hil_sim.boards.simclock import SimClock
@@ -59,43 +59,6 @@ PORT_OPEN_TIMEOUT_S = 30.0
 DRAIN_TIMEOUT_S = 10.0
 WRITE_STALL_TIMEOUT_S = 20.0
 STEPPED_POLL_MS = 1.0
-_TICK = os.sysconf("SC_CLK_TCK")
-
-
-class SilError(AirwakeError):
-    """A SIL run that cannot start or went wrong (what, and where to look)."""
-
-
-def _rchar(pid: int) -> int | None:
-    """Bytes the process has read with read(2) and friends (/proc/PID/io)."""
-    try:
-        with open(f"/proc/{pid}/io", "rb") as f:
-            return int(f.readline().split()[1])
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-_IDLE_WAITS = ("epoll", "select", "poll", "nanosleep")
-
-
-def _asleep(pid: int) -> bool:
-    """The process sleeps in its event loop (select/epoll or its poll-period sleep)."""
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-        if state != "S":
-            return state in ("Z", "X")
-        wchan = Path(f"/proc/{pid}/wchan").read_text()
-    except (OSError, IndexError):
-        return True
-    return any(w in wchan for w in _IDLE_WAITS)
-
-
-def _cpu_s(pid: int) -> float | None:
-    try:
-        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    except OSError:
-        return None
-    return (int(fields[11]) + int(fields[12])) / _TICK
 
 
 def sil_rngs(seed: int) -> dict[str, np.random.Generator]:
@@ -170,7 +133,7 @@ class SilRun:
         self.boards: dict[str, NativeBoard] = {}
         self.ptys: dict[str, PtyPort] = {}
         self.links: dict[str, Impairment] = {}
-        self.daemon: subprocess.Popen | None = None
+        self.daemon: HostDaemon | None = None
         self.clock: SimClock | None = None
         self.host_offset_ns = 0  # stepped: host time = host_offset_ns + simulator time
         self.events: list[dict] = []
@@ -183,7 +146,6 @@ class SilRun:
         self._tmp: Path | None = None
         self._started = False
         self._finished = False
-        self._daemon_dead = False
         self._wall0 = 0.0
         self._cpu_self0 = 0.0
         self._cpu_daemon0 = 0.0
@@ -227,10 +189,11 @@ class SilRun:
             self.host_offset_ns = time.monotonic_ns()
         self._wall0 = time.monotonic()
         self._cpu_self0 = time.process_time()
-        self._cpu_daemon0 = _cpu_s(self.daemon.pid) or 0.0
-        self._rchar0 = (_rchar(self.daemon.pid) or 0) - sum(p.bytes_written
-                                                            for p in self.ptys.values())
-        self._cpu_boards0 = {n: _cpu_s(b.process.pid) or 0.0 for n, b in self.boards.items()}
+        self._cpu_daemon0 = self.daemon.cpu_s() or 0.0
+        self._rchar0 = (self.daemon.read_chars() or 0) - sum(p.bytes_written
+                                                             for p in self.ptys.values())
+        self._cpu_boards0 = {n: cpu_seconds(b.process.pid) or 0.0
+                             for n, b in self.boards.items()}
 
     def _executables(self) -> None:
         missing = []
@@ -331,17 +294,11 @@ class SilRun:
     def _start_daemon(self, build_config) -> None:
         if self.mode == "stepped":
             self.clock = SimClock(self._tmp / "clock")
-        self._daemon_log = open(self._tmp / "daemon.log", "wb")  # noqa: SIM115
-        self.daemon = subprocess.Popen(self.daemon_command(build_config),
-                                       stdin=subprocess.DEVNULL, stdout=self._daemon_log,
-                                       stderr=subprocess.STDOUT, cwd=REPO_ROOT)
-        end = time.monotonic() + DAEMON_START_TIMEOUT_S
-        while not (self.out / "segment-0000.mcap").exists():
-            self._check_daemon("starting")
-            if time.monotonic() > end:
-                raise SilError(f"the daemon did not create {self.out} within "
-                               f"{DAEMON_START_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
-            time.sleep(0.02)
+        self.daemon = HostDaemon(self.daemon_command(build_config), self._tmp / "daemon.log",
+                                 REPO_ROOT, WRITE_STALL_TIMEOUT_S)
+        segment = self.out / "segment-0000.mcap"
+        self.daemon.wait_for(segment.exists, DAEMON_START_TIMEOUT_S,
+                             f"starting (creating {self.out})")
 
     def _open_ports(self) -> None:
         """One pty per host-facing board; wait until the daemon has opened each (it
@@ -352,18 +309,17 @@ class SilRun:
             if self.keep_delivered:
                 self.ptys[b].keep = bytearray()
         waiting = set(self.ptys)
-        end = time.monotonic() + PORT_OPEN_TIMEOUT_S
-        while waiting:
-            self._check_daemon("opening the ports")
+
+        def opened() -> bool:
             for b in list(waiting):
                 data = self.ptys[b].receive()
                 if data:
                     self.host_rx[b] += data
                     waiting.discard(b)
-            if time.monotonic() > end:
-                raise SilError(f"the daemon did not open {', '.join(sorted(waiting))} within "
-                               f"{PORT_OPEN_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
-            time.sleep(0.005)
+            return not waiting
+
+        self.daemon.wait_for(opened, PORT_OPEN_TIMEOUT_S,
+                             f"opening the ports {', '.join(self.rig.host_boards)}")
 
     # -- the loop --------------------------------------------------------------------
 
@@ -422,62 +378,20 @@ class SilRun:
             self.progress.update(t1 / 1e6)
 
     def _wait_host_idle(self) -> None:
-        """The daemon has read everything written so far and is asleep again (its pass
-        over those bytes, with any replies, is complete)."""
-        if self._daemon_dead:
+        """The daemon has read everything written so far (`HostDaemon.wait_read`) and is
+        asleep again (`wait_idle`): its pass over those bytes, with any replies, is
+        complete."""
+        if self.daemon.killed:
             return
         t_start = time.monotonic()
-        self._wait_host_read()
-        pid = self.daemon.pid
-        end = t_start + WRITE_STALL_TIMEOUT_S
-        pause = 5e-5
-        while not _asleep(pid):
-            if time.monotonic() > end:
-                raise SilError(f"the daemon has been busy for {WRITE_STALL_TIMEOUT_S:.0f} s: "
-                               f"{self._daemon_tail()}")
-            self._check_daemon("recording")
-            time.sleep(pause)
-            pause = min(pause * 1.5, 5e-4)
+        target = self._rchar0 + sum(p.bytes_written for p in self.ptys.values())
+        plugged = [p for p in self.ptys.values() if p.plugged]
+        # bytes a lost port discarded are never read: re-base on the shortfall
+        self._rchar0 -= self.daemon.wait_read(target, lambda: not any(p.unread()
+                                                                      for p in plugged))
+        self.daemon.wait_idle()
         self.timing["host_wait_s"] = self.timing.get("host_wait_s", 0.0) + (
             time.monotonic() - t_start)
-
-    def _wait_host_read(self) -> None:
-        """Wait (wall time) until the daemon has read every byte written to the ptys.
-
-        A pty hands written bytes to the reader's line discipline asynchronously, so an
-        empty input queue (FIONREAD) does not prove that the daemon read them; the
-        daemon's own read counter (`rchar` of /proc/PID/io: its reads are the ports'
-        bytes) does. If the two disagree for long (bytes a lost port discarded), the
-        queue is trusted and the counter re-based."""
-        if self._daemon_dead:
-            return
-        written = sum(p.bytes_written for p in self.ptys.values())
-        target = self._rchar0 + written
-        if _rchar(self.daemon.pid) >= target:
-            return
-        ptys = [p for p in self.ptys.values() if p.plugged]
-        t_start = time.monotonic()
-        empty_since = None
-        end = t_start + WRITE_STALL_TIMEOUT_S
-        pause = 5e-5
-        while True:
-            got = _rchar(self.daemon.pid)
-            if got is None or got >= target:
-                break
-            now = time.monotonic()
-            if any(p.unread() for p in ptys):
-                empty_since = None
-            elif empty_since is None:
-                empty_since = now
-            elif now - empty_since > 0.05:  # nothing queued for 50 ms: trust the queue
-                self._rchar0 += got - target
-                break
-            if now > end:
-                raise SilError(f"the daemon has not read its ports for "
-                               f"{WRITE_STALL_TIMEOUT_S:.0f} s: {self._daemon_tail()}")
-            self._check_daemon("recording")
-            time.sleep(pause)
-            pause = min(pause * 1.5, 5e-4)
 
     def _advance(self, name: str, t0: int, t1: int) -> None:
         """One board from t0 to t1 with its inputs; its outputs onto the links."""
@@ -534,7 +448,7 @@ class SilRun:
                     continue
                 if name == "rover" and "base" in self.boards:
                     self.base_rover_rx.append((t + latency, out))
-                elif name in self.ptys and not self._daemon_dead:
+                elif name in self.ptys and not self.daemon.killed:
                     self.ptys[name].send(out)
             elif port == "rover" and name == "base":
                 if not self._outage("rover", t):
@@ -571,19 +485,20 @@ class SilRun:
     def _deliver(self) -> None:
         """Write the step's bytes to the ptys; wait (wall time) while the daemon is
         behind rather than drop anything."""
+        if self.daemon.killed:
+            for p in self.ptys.values():
+                p.pending.clear()
+            return
         pending = [p for p in self.ptys.values() if p.flush()]
         end = time.monotonic() + WRITE_STALL_TIMEOUT_S
-        while pending and not self._daemon_dead:
-            self._check_daemon("recording")
+        while pending:
+            self.daemon.check("recording")
             for p in pending:
                 p.wait_writable(0.01)
             pending = [p for p in pending if p.flush()]
             if time.monotonic() > end:
                 raise SilError(f"the daemon has not read its ports for {WRITE_STALL_TIMEOUT_S}"
-                               f" s: {self._daemon_tail()}")
-        if self._daemon_dead:
-            for p in self.ptys.values():
-                p.pending.clear()
+                               f" s: {self.daemon.tail()}")
 
     def _collect_host_bytes(self, t_us: int) -> None:
         """What the daemon wrote (stamped with the host clock now at t_us): delivered to
@@ -604,27 +519,22 @@ class SilRun:
 
     def _drain(self, ptys, timeout_s: float = DRAIN_TIMEOUT_S) -> bool:
         """Wait (wall time) until the daemon has read everything written to `ptys`."""
-        if self._daemon_dead or self.daemon is None:
+        if self.daemon is None or self.daemon.killed:
             return False
         end = time.monotonic() + timeout_s
-        ok = True
         while any(p.unread() or p.pending for p in ptys):
             for p in ptys:
                 p.flush()
-            if self.daemon.poll() is not None or time.monotonic() > end:
-                ok = False
-                break
+            if not self.daemon.alive or time.monotonic() > end:
+                return False
             time.sleep(0.002)
-        return ok
+        return True
 
     # -- faults from outside (tests) -------------------------------------------------
 
     def kill_daemon(self, sig: int = signal.SIGKILL) -> int:
         """Kill the daemon now (crash tests); returns CLOCK_MONOTONIC ns of the kill."""
-        t = time.monotonic_ns()
-        self.daemon.send_signal(sig)
-        self.daemon.wait(10)
-        self._daemon_dead = True
+        t = self.daemon.kill(sig)
         self.events.append({"kind": "daemon_killed", "signal": int(sig), "at_s": self.t_us / 1e6,
                             "wall_ns": t})
         return t
@@ -638,17 +548,17 @@ class SilRun:
         self._finished = True
         wall = time.monotonic() - self._wall0
         cpu_self = time.process_time() - self._cpu_self0
-        cpu_d = _cpu_s(self.daemon.pid) if self.daemon is not None else None
+        cpu_d = self.daemon.cpu_s()
         self.daemon_cpu_s = (round(cpu_d - self._cpu_daemon0, 3) if cpu_d is not None
                              else None)
-        boards_cpu = {n: round((_cpu_s(b.process.pid) or 0.0) - self._cpu_boards0.get(n, 0.0), 3)
+        boards_cpu = {n: round((cpu_seconds(b.process.pid) or 0.0)
+                               - self._cpu_boards0.get(n, 0.0), 3)
                       for n, b in self.boards.items()}
-        if not self._daemon_dead:
-            self._check_daemon("recording")
+        self.daemon.check("recording")
         drained = self._drain(list(p for p in self.ptys.values() if p.plugged))
         if self.clock is not None:
             self.clock.follow()
-        daemon_exit = self._stop_daemon()
+        daemon_exit = self.daemon.stop()
         board_exit = {}
         for name, board in self.boards.items():
             board_exit[name] = board.close()
@@ -713,40 +623,13 @@ class SilRun:
                                                     dtype=np.int64)
         np.savez_compressed(sil_dir / "frames.npz", **arrays)
 
-    def _stop_daemon(self) -> int | None:
-        d = self.daemon
-        if d is None:
-            return None
-        if d.poll() is None:
-            d.send_signal(signal.SIGINT)
-            try:
-                d.wait(60)
-            except subprocess.TimeoutExpired:
-                d.kill()
-                d.wait()
-        self._daemon_log.close()
-        return d.returncode
-
-    def _check_daemon(self, what: str) -> None:
-        if self.daemon is not None and self.daemon.poll() is not None:
-            raise SilError(f"the daemon exited ({self.daemon.returncode}) while {what}: "
-                           f"{self._daemon_tail()}")
-
-    def _daemon_tail(self) -> str:
-        try:
-            text = (self._tmp / "daemon.log").read_text(errors="replace").strip()
-        except (OSError, TypeError):
-            return "(no daemon log)"
-        return text[-1500:] or "(empty daemon log)"
-
     def _abort(self) -> None:
         """Stop everything after an error (no sidecar)."""
         if self._finished:
             return
         self._finished = True
-        if self.daemon is not None and self.daemon.poll() is None:
-            self.daemon.kill()
-            self.daemon.wait()
+        if self.daemon is not None:
+            self.daemon.close()
         for board in self.boards.values():
             try:
                 board.close()
@@ -768,8 +651,6 @@ class SilRun:
         if self.clock is not None:
             self.clock.close()
             self.clock = None
-        if getattr(self, "_daemon_log", None) is not None and not self._daemon_log.closed:
-            self._daemon_log.close()
         if self._tmp is not None:
             shutil.rmtree(self._tmp, ignore_errors=True)
             self._tmp = None

@@ -131,6 +131,22 @@ def as_set(rows: np.ndarray, cols=slice(1, 5)) -> set[tuple[int, ...]]:
     return {tuple(int(v) for v in r) for r in rows[:, cols]}
 
 
+def delivered_frames(logs: dict) -> set:
+    """Frames delivered intact on the host ptys (the rover's arrive through the base)."""
+    return set().union(*(as_set(logs[f"{b}_delivered"]) for b in ("losa", "marker", "base")
+                         if f"{b}_delivered" in logs))
+
+
+def sent_frames(logs: dict) -> tuple[set, set]:
+    """(every frame a board sent, those with a byte or delimiter impaired on a link)."""
+    sent, touched = set(), set()
+    for key, rows in logs.items():
+        if key.endswith("_sent"):
+            sent |= as_set(rows)
+            touched |= as_set(rows[rows[:, 5] == 1])
+    return sent, touched
+
+
 def sim_time(table_t_s: np.ndarray, metadata: dict, extra: dict) -> np.ndarray:
     """Flight-table time -> simulator time: the stepped daemon's host clock is
     host_offset_ns + simulator time, and t_s counts from the recording's start."""

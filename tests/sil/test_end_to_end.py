@@ -14,9 +14,11 @@ from conftest import CLEAN_S
 from sil_harness import (
     BAD_KINDS,
     as_set,
+    delivered_frames,
     frame_logs,
     load_export,
     recorded_frames,
+    sent_frames,
     sim_time,
     summary,
 )
@@ -71,12 +73,11 @@ def test_every_frame_the_boards_sent_was_recorded_and_nothing_else(clean_flight)
     # clean links: the recording holds exactly the frames delivered on the ptys, and those
     # are every frame the boards sent but the rover's last few, still on the XBee hop
     logs = frame_logs(clean_flight)
-    delivered = set().union(*(as_set(logs[f"{b}_delivered"])
-                              for b in ("losa", "marker", "base")))
+    delivered = delivered_frames(logs)
     rec = open_recording(clean_flight / "rec")
     assert recorded_frames(rec) == delivered
-    sent = set().union(*(as_set(v) for k, v in logs.items() if k.endswith("_sent")))
-    assert len(sent) > 12_000 and delivered <= sent
+    sent, touched = sent_frames(logs)
+    assert len(sent) > 12_000 and delivered <= sent and not touched
     rover = logs["rover_sent"]
     in_flight = as_set(rover[rover[:, 0] >= CLEAN_S * 1e6 - summary(clean_flight)["rig"][
         "xbee_latency_us"] - 1000])

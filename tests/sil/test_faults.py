@@ -12,9 +12,11 @@ from airwake.record.reader import open_recording
 from sil_harness import (
     BAD_KINDS,
     as_set,
+    delivered_frames,
     frame_logs,
     load_export,
     recorded_frames,
+    sent_frames,
     sim_time,
     summary,
 )
@@ -65,15 +67,10 @@ def test_no_valid_frame_is_lost_outside_the_corrupted_spans(fault_flight):
     # the recording holds exactly the frames delivered intact; every frame a board sent
     # that is missing had a byte (or a delimiter next to it) impaired on its way
     logs = frame_logs(fault_flight)
-    delivered = set().union(*(as_set(logs[f"{b}_delivered"])
-                              for b in ("losa", "marker", "base")))
+    delivered = delivered_frames(logs)
     rec = open_recording(fault_flight / "rec")
     assert recorded_frames(rec) == delivered
-    sent, touched = set(), set()
-    for key, rows in logs.items():
-        if key.endswith("_sent"):
-            sent |= as_set(rows)
-            touched |= as_set(rows[rows[:, 5] == 1])
+    sent, touched = sent_frames(logs)
     lost = sent - delivered
     rover = logs["rover_sent"]
     in_flight = as_set(rover[rover[:, 0] >= 12e6 - 6000])  # still on the XBee at the end
