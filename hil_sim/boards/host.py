@@ -40,15 +40,16 @@ def read_chars(pid: int) -> int | None:
 
 
 def asleep(pid: int) -> bool:
-    """The process sleeps in its event loop (or has exited)."""
+    """The process sleeps in its event loop (or has exited). Where the kernel hides the
+    wait channel (wchan reads "0"), any interruptible sleep counts."""
     try:
         state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
         if state != "S":
             return state in ("Z", "X")
-        wchan = Path(f"/proc/{pid}/wchan").read_text()
+        wchan = Path(f"/proc/{pid}/wchan").read_text().strip()
     except (OSError, IndexError):
         return True
-    return any(w in wchan for w in _IDLE_WAITS)
+    return wchan in ("", "0") or any(w in wchan for w in _IDLE_WAITS)
 
 
 def cpu_seconds(pid: int) -> float | None:
