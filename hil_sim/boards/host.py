@@ -117,21 +117,24 @@ class HostDaemon:
         or the shortfall when nothing was queued for it for 50 ms (`queues_empty()`:
         bytes a lost port discarded never get read — the caller re-bases)."""
         got = read_chars(self.pid)
-        if got is None or got >= target:
+        if got is not None and got >= target:
             return 0
         end = time.monotonic() + self.stall_timeout_s
         empty_since = None
         pause = 5e-5
         while True:
             got = read_chars(self.pid)
-            if got is None or got >= target:
+            if got is None:  # no /proc/PID/io here: the empty queue is all we can see
+                if queues_empty():
+                    return 0
+            elif got >= target:
                 return 0
             now = time.monotonic()
             if not queues_empty():
                 empty_since = None
             elif empty_since is None:
                 empty_since = now
-            elif now - empty_since > 0.05:
+            elif now - empty_since > 0.05 and got is not None:
                 return target - got
             if now > end:
                 raise SilError(f"the daemon has not read its ports for "
