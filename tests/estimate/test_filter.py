@@ -97,18 +97,21 @@ def test_no_nan_with_outlier_samples(tiny_wind_flight):
 def test_non_finite_predictions_are_zero_weight_and_a_fully_broken_sample_is_skipped(
         tiny_wind_flight):
     def patch(wm):
-        real = wm.predict
+        real = wm.evaluate
+        calls = []
 
-        def predict(p, k):
-            z, g = real(p, k)
+        def evaluate(x, u, w, env):
+            xd, z = real(x, u, w, env)
+            k = len(calls)
+            calls.append(k)
             z = z.copy()
             if k % 7 == 0:
                 z[::3] = np.nan  # a third of the particles break
             if k == 50:
                 z[:] = np.inf  # every particle breaks
-            return z, g
+            return xd, z
 
-        wm.predict = predict
+        wm.evaluate = evaluate
 
     out, _ = _run(tiny_wind_flight, model_patch=patch)
     assert np.all(np.isfinite(out.mean)) and np.all(np.isfinite(out.std))

@@ -6,13 +6,13 @@
 
 Per sample k (the model supplies the physics, this class only the algorithm):
   1. propagate: every particle's wind takes a random-walk step (k > 0);
-  2. predict: the 6 channels for all particles in one batched model call;
-  3. weight: log w_j += -||(z - z_hat_j)/s|| / sigma (eq 5.17), normalised in log space
+  2. predict + weight: the 6 channels for all particles in one batched model call (the
+     model also completes its rotor-state step with it), log w_j += -||(z - z_hat_j)/s||
+     / sigma (eq 5.17), normalised in log space
      (subtract the maximum before exp: no underflow, no NaN; non-finite -> weight 0; if
      every particle is non-finite the sample is skipped and flagged);
-  4. estimate: posterior mean and std of each component, ESS = 1/sum w^2;
-  5. the particles' rotor states advance to k+1;
-  6. resample when ESS < ess_threshold * N (default 1/2; the reference's roulette wheel
+  3. estimate: posterior mean and std of each component, ESS = 1/sum w^2;
+  4. resample when ESS < ess_threshold * N (default 1/2; the reference's roulette wheel
      = multinomial with threshold 1, i.e. every sample), then regularise: every wind gets
      a Gaussian kernel jitter with covariance (b h_opt)^2 Sigma + floor^2, Sigma the
      weighted covariance before resampling, h_opt = (4/(N (d+2)))^(1/(d+4)) (Silverman;
@@ -45,8 +45,9 @@ class FilterOutput:
 
 class ParticleFilter:
     """Sequential importance resampling with regularisation over a state-space `model`
-    (see module docstring; `model` needs initial, propagate, predict, log_likelihood,
-    advance, clip, process_step_std)."""
+    (see module docstring; `model` needs n_steps, initial(n, rng), propagate(p, k, rng),
+    log_likelihood(p, k, sigma), clip(wind), process_step_std(k); particles need `wind`
+    (N, D) and take(indexes))."""
 
     def __init__(self, model, n_particles: int = 2000, sigma: float = 0.5,
                  resampler=systematic, ess_threshold: float = 0.5, jitter: float = 0.2,
@@ -81,8 +82,7 @@ class ParticleFilter:
         else:
             m.propagate(self.particles, k, self.rng)
         p = self.particles
-        z_hat, g = m.predict(p, k)
-        ll = m.log_likelihood(z_hat, k, self.sigma)
+        ll = m.log_likelihood(p, k, self.sigma)
         log_w = self.log_w + ll
         top = np.max(log_w)
         skipped = not np.isfinite(top)
@@ -97,7 +97,6 @@ class ParticleFilter:
         var = w @ (dev * dev)
         std = np.sqrt(np.maximum(var, 0.0))
         ess = effective_sample_size(w)
-        m.advance(p, g, k)
         resampled = ess < self.ess_threshold * self.n or self.ess_threshold >= 1.0
         if resampled:
             cov = (dev * w[:, None]).T @ dev

@@ -4,14 +4,18 @@ State of one particle: the eq 5.3 wind w = [v_x v_y v_z w_x w_y w_z] (body axes,
 hub) and its own hidden rotor states h (flapping, lead-lag, flybar, ...), see
 docs/wind-estimation.md for why the rotor states are carried per particle.
 
-    transition   w_{n+1} = w_n + q * sqrt(dt) * N(0, I)        (random walk, per component)
-                 h_{n+1}: exponential predictor-corrector        (airwake.calibrate.hidden)
-    observation  z_n = z_hat(body_n, u_n, w_n, h_n) + noise     (6 acceleration channels)
+    transition   w_n = w_{n-1} + q * sqrt(dt) * N(0, I)         (random walk, per component)
+                 h_n: exponential predictor-corrector            (airwake.calibrate.hidden)
+    observation  z_n = z_hat(body_n, u_n, w_n, h_n) + noise      (6 acceleration channels)
     likelihood   log p(z_n | particle) = -|| (z_n - z_hat) / s || / sigma     (eq 5.17)
 
 with s (6,) the channel scales (measurement noise std per channel: m/s^2 and rad/s^2
-made comparable) and sigma the reference's error sensitivity factor. The wind stays in
-a box (`bounds`): a random-walk step or a jitter that leaves it is clipped.
+made comparable) and sigma the reference's error sensitivity factor. The filter calls
+`propagate` (random walk + rotor-state predictor) and `log_likelihood` (the one batched
+model evaluation of the sample, which also completes the rotor-state step: the
+corrector needs the derivative at the new sample). The wind stays in a box (`bounds`):
+a random-walk step or a jitter that leaves it is clipped. The per-particle arithmetic
+is compiled (`airwake.estimate.kernels`).
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from airwake.calibrate.hidden import (
     RowBatch,
     evaluate_rates_and_measurement,
 )
+from airwake.estimate.kernels import observe_rows, transition_rows
 
 # Default process noise (random-walk intensity, per sqrt(s)) and boxes. Vorticity
 # components are scaled to their plausible range: |v| up to ~10 m/s, |w| up to ~1 1/s.
@@ -89,31 +94,33 @@ class WindMeasurementModel:
         self.restart = np.zeros(self.n_steps, dtype=bool)
         self.restart[0] = True
         self.restart[1:] = dt > 3.0 * data.dt
-        self._x = None
+        self._buffers: dict[str, np.ndarray] = {}
         self._a_t = np.ascontiguousarray(self.prop.a[0].T)
-        self._h_pred = None
-        hid = self.hid
-        contiguous = hid.size > 0 and np.array_equal(hid, np.arange(hid[0], hid[0] + hid.size))
-        self._hid_slice = slice(int(hid[0]), int(hid[-1]) + 1) if contiguous else None
-        self._body_slice = slice(0, int(hid[0])) if contiguous else None
-        if contiguous and hid[-1] + 1 != model.n_states:
-            self._hid_slice = None
+        self._eye = np.eye(self.prop.m)
+        self._zero6 = np.zeros(6)
+        self._step = self._zero6
+        self._prepared = -1
 
     # -- rows -------------------------------------------------------------------------
     def _rows(self, k: int, hidden: np.ndarray, wind: np.ndarray) -> RowBatch:
         n = hidden.shape[0]
-        if self._x is None or self._x.shape[0] != n:
-            self._x = np.empty((n, self.model.n_states))
-            self._body = np.setdiff1d(np.arange(self.model.n_states), self.hid)
-        x = self._x
-        if self._hid_slice is not None:  # the usual layout: body first, rotor states after
-            x[:, self._body_slice] = self.data.x[k, self._body_slice]
-            x[:, self._hid_slice] = hidden
-        else:
-            x[:] = self.data.x[k]
-            x[:, self.hid] = hidden
-        env = {name: v[k : k + 1] for name, v in self.data.env.items()}
-        return RowBatch(x, self.data.u[k : k + 1], wind, env)
+        x = self._buffer("x", (n, self.model.n_states))
+        x[:] = self.data.x[k]
+        x[:, self.hid] = hidden
+        return RowBatch(x, self.data.u[k : k + 1], wind, self._env(k))
+
+    def _env(self, k: int) -> dict:
+        return {name: v[k : k + 1] for name, v in self.data.env.items()}
+
+    def _buffer(self, name: str, shape) -> np.ndarray:
+        buf = self._buffers.get(name)
+        if buf is None or buf.shape != shape:
+            buf = self._buffers[name] = np.empty(shape)
+        return buf
+
+    def evaluate(self, x, u, w, env):
+        """(dx/dt, z) of the helicopter model for the particles' rows (one call)."""
+        return evaluate_rates_and_measurement(self.model, x, u, w, env, None)
 
     # -- the filter's calls ----------------------------------------------------------
     def initial(self, n: int, rng: np.random.Generator) -> Particles:
@@ -134,56 +141,56 @@ class WindMeasurementModel:
         p.g = p.g_prev = None
 
     def propagate(self, p: Particles, k: int, rng: np.random.Generator) -> None:
-        """Random-walk the wind from sample k-1 to k (in place)."""
-        step = self.process_std * np.sqrt(self.dt[k - 1])
+        """Transition from sample k-1 to k (in place): the wind's random walk, and the
+        rotor states' predictor (completed by `log_likelihood`)."""
         noise = rng.standard_normal(p.wind.shape)
-        noise *= step
-        p.wind += noise
-        np.clip(p.wind, -self.bounds, self.bounds, out=p.wind)
+        self._step = self.process_std * np.sqrt(self.dt[k - 1])
         if self.restart[k]:
+            p.wind = np.clip(p.wind + noise * self._step, -self.bounds, self.bounds)
             self.restart_hidden(p, k)
+            return
+        self._prepare(p, k, noise)
 
-    def predict(self, p: Particles, k: int):
-        """(z_hat (N, 6), g (N, m)): predicted measurement at sample k from one batched
-        model evaluation at the particles' predicted rotor states, and the remainder g
-        there (what `advance` corrects the rotor states with)."""
-        if p.started:
-            h = self.prop.predict(p.hidden, p.g, p.g_prev, self.dt[k - 1])
+    def _prepare(self, p: Particles, k: int, noise) -> None:
+        n, m = p.hidden.shape
+        x = self._buffer("x", (n, self.model.n_states))
+        h_pred = self._buffer("h_pred", (n, m))
+        started = p.started
+        if started:
+            e_t, p1_t, p2_t = (a[0] for a in self.prop.step_matrices(self.dt[k - 1]))
+            g, g_prev = p.g, p.g_prev
         else:
-            h = p.hidden
-        self._h_pred = h
-        rows = self._rows(k, h, p.wind)
+            e_t = p1_t = p2_t = self._eye
+            g = g_prev = p.hidden
+        if noise is None:  # rows only (first sample, after a restart): the wind stays
+            noise = self._buffer("zero_noise", p.wind.shape)
+            noise[:] = 0.0
+        transition_rows(p.wind, noise, self._step, self.bounds, p.hidden, g, g_prev, e_t, p1_t, p2_t, started,
+                        self.data.x[k], self.hid, x, h_pred)
+        self._prepared = k
+
+    def log_likelihood(self, p: Particles, k: int, sigma: float) -> np.ndarray:
+        """eq 5.17 for every particle at sample k, (N,): -||(z - z_hat)/s|| / sigma from
+        one batched model evaluation (non-finite predictions -> -inf). The same
+        evaluation completes the rotor-state step to sample k (the corrector)."""
+        n, m = p.hidden.shape
+        if self._prepared != k:  # first sample or after a restart: rows not built yet
+            self._prepare(p, k, None)
+        x = self._buffers["x"]
+        h_pred = self._buffers["h_pred"]
         with np.errstate(all="ignore"):
-            xd, z = evaluate_rates_and_measurement(self.model, rows.x, rows.u, rows.w,
-                                                   rows.env, None)
-            g = xd[:, self._hid_slice] if self._hid_slice is not None else xd[:, self.hid]
-            g = g - h @ self._a_t
-        return z, g
-
-    def log_likelihood(self, z_hat: np.ndarray, k: int, sigma: float) -> np.ndarray:
-        """eq 5.17: -||(z - z_hat)/s|| / sigma, (N,); non-finite predictions -> -inf."""
-        e = (self.data.z[k] - z_hat) / self.scale
-        ll = -np.sqrt(np.einsum("nc,nc->n", e, e)) / sigma
-        return np.where(np.isfinite(ll), ll, -np.inf)
-
-    def advance(self, p: Particles, g: np.ndarray, k: int) -> None:
-        """Correct the rotor states to sample k with g from `predict` (the corrector of
-        airwake.calibrate.hidden). A particle whose rotor state is no longer finite
-        restarts at the reference."""
-        if p.started:
-            with np.errstate(all="ignore"):
-                h = self.prop.correct(self._h_pred, p.g, p.g_prev, g, self.dt[k - 1])
-            p.g_prev = p.g
-        else:
-            h = p.hidden
-            p.g_prev = g
-        p.hidden, p.g = h, g
-        bad = ~np.isfinite(h.sum(axis=1) + g.sum(axis=1))
-        if bad.any():
-            h[bad] = self.prop.h_ref[0]
-            g[bad] = 0.0
-            p.g_prev = p.g_prev.copy()
-            p.g_prev[bad] = 0.0
+            xd, z = self.evaluate(x, self.data.u[k : k + 1], p.wind, self._env(k))
+        started = p.started
+        if not started:
+            p.g = np.empty((n, m))
+            p.g_prev = np.empty((n, m))
+        p2_t = self.prop.step_matrices(self.dt[k - 1])[2][0] if started else self._eye
+        ll = np.empty(n)
+        observe_rows(np.ascontiguousarray(xd), np.ascontiguousarray(z), h_pred, p.hidden,
+                     p.g, p.g_prev, self._a_t, p2_t, started, self.hid, self.prop.h_ref[0],
+                     self.data.z[k], 1.0 / self.scale, 1.0 / sigma, ll)
+        self._prepared = -1
+        return ll
 
     def clip(self, wind: np.ndarray) -> np.ndarray:
         return np.clip(wind, -self.bounds, self.bounds)

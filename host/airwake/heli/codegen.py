@@ -161,33 +161,40 @@ class _Source:
     def emit_totals(self, static_loads: list[tuple[int, bool]]) -> None:
         """Sum the loads into force_n, moment_nm, sensed_force_n (before body_dynamics)."""
         self.emit("# total loads, in model order (eq 5.2's X, Y, Z, L, M, N)")
-        for j in range(3):
-            f = " + ".join(f"ld[{e}, {j}]" for e, _ in static_loads) or "0.0"
-            m = " + ".join(f"ld[{e}, {3 + j}]" for e, _ in static_loads) or "0.0"
-            s = " + ".join(f"ld[{e}, {j}]" for e, sens in static_loads if sens) or "0.0"
-            self.emit(f"q[{Q.force_n + j}] = 0.0 + {f}")
-            self.emit(f"q[{Q.moment_nm + j}] = 0.0 + {m}")
-            self.emit(f"q[{Q.sensed_force_n + j}] = 0.0 + {s}")
+        self.emit("for j in range(3):")
+        f = " + ".join(f"ld[{e}, j]" for e, _ in static_loads) or "0.0"
+        m = " + ".join(f"ld[{e}, 3 + j]" for e, _ in static_loads) or "0.0"
+        s = " + ".join(f"ld[{e}, j]" for e, sens in static_loads if sens) or "0.0"
+        self.emit(f"q[{Q.force_n} + j] = 0.0 + {f}", 2)
+        self.emit(f"q[{Q.moment_nm} + j] = 0.0 + {m}", 2)
+        self.emit(f"q[{Q.sensed_force_n} + j] = 0.0 + {s}", 2)
 
-    def emit_views(self, e_idx: int, eff, done: dict) -> None:
-        """Parameters and the effect's own views, once per effect."""
-        if e_idx in done:
-            return
-        done[e_idx] = True
+    def emit_views(self, e_idx: int, eff, done: dict) -> tuple[str, str, str]:
+        """Parameters and the effect's own views, once per effect; effects without
+        states or scratch share one empty view (fewer statements: faster to compile)."""
         st = self.model.state_slice(eff.name)
         sc = self.scratch[eff.name]
-        self.emit(f"# {eff.name}")
-        self.emit(f"p{e_idx} = {self.param_tuple(e_idx, eff)}")
-        self.emit(f"s{e_idx} = xr[{st.start}:{st.stop}]")
-        self.emit(f"d{e_idx} = dxr[{st.start}:{st.stop}]")
-        self.emit(f"l{e_idx} = ld[{e_idx}]")
-        self.emit(f"c{e_idx} = sc[{sc.start}:{sc.stop}]")
+        names = ("s_", "d_", "c_")
+        if e_idx not in done:
+            done[e_idx] = True
+            self.emit(f"# {eff.name}")
+            self.emit(f"p{e_idx} = {self.param_tuple(e_idx, eff)}")
+            self.emit(f"l{e_idx} = ld[{e_idx}]")
+            if st.stop > st.start:
+                self.emit(f"s{e_idx} = xr[{st.start}:{st.stop}]")
+                self.emit(f"d{e_idx} = dxr[{st.start}:{st.stop}]")
+            if sc.stop > sc.start:
+                self.emit(f"c{e_idx} = sc[{sc.start}:{sc.stop}]")
+        if st.stop > st.start:
+            names = (f"s{e_idx}", f"d{e_idx}", names[2])
+        if sc.stop > sc.start:
+            names = (names[0], names[1], f"c{e_idx}")
+        return names
 
     def emit_call(self, stage: str, e_idx: int, eff, fn, done: dict) -> None:
         kname = self.kernel_name(e_idx, stage, fn)
-        self.emit_views(e_idx, eff, done)
-        self.emit(f"{kname}(q, p{e_idx}, s{e_idx}, d{e_idx}, l{e_idx}, c{e_idx})"
-                  f"  # {eff.name}.{stage}")
+        s, d, c = self.emit_views(e_idx, eff, done)
+        self.emit(f"{kname}(q, p{e_idx}, {s}, {d}, l{e_idx}, {c})  # {eff.name}.{stage}")
 
 
 def _static_loads(model, calls):
@@ -207,15 +214,15 @@ def _generate(model) -> tuple[str, dict, _Source, np.ndarray, np.ndarray]:
     src.lines.append(f"def row({ROW_ARGS}):")
     src.emit("q, xr, dxr, ld, sc = (unmanaged(q), unmanaged(xr), unmanaged(dxr), "
              "unmanaged(ld), unmanaged(sc))")
+    src.emit("s_, d_, c_ = xr[0:0], dxr[0:0], sc[0:0]  # for effects without states/scratch")
     src.emit_init()
     done: dict = {}
     for stage, e_idx, eff, fn, _k in calls:
         if stage == "body_dynamics":
             src.emit_totals(static)
         src.emit_call(stage, e_idx, eff, fn, done)
-    src.emit("# measurement out")
-    for j in range(6):
-        src.emit(f"mr[{j}] = q[{Q.meas + j}]")
+    src.emit("for j in range(6):  # measurement out")
+    src.emit(f"mr[j] = q[{Q.meas} + j]", 2)
     src.emit("return")
     src.lines.append("")
     for t in LOOP_TEMPLATES:

@@ -71,11 +71,14 @@ def _data_pointer(typingctx, arr):
     return sig, codegen
 
 
-@kernel_function
-def unmanaged(a):
+def _unmanaged(a):
     """The same C-contiguous array without reference counting: views sliced from it (one
     per effect and row) then cost no atomic increments. The caller keeps `a` alive."""
     return numba.carray(_data_pointer(a), a.shape)
+
+
+_unmanaged._airwake_kernel = True  # disk-cached like a kernel; called, not inlined (cheaper
+unmanaged = numba.njit(cache=True, **JIT_OPTIONS)(_unmanaged)  # to compile, same speed)
 
 
 @kernel_function
