@@ -168,7 +168,8 @@ class SimResult:
 
 
 class TruthStepper:
-    """Fixed-step classical RK4 of one truth state, inputs/wind/height held over the step.
+    """Fixed-step classical RK4 of one truth state, inputs/wind/height held over the step
+    (the caller passes the inputs at the step's midpoint).
 
         x_next = stepper.step(x, u, w, h, dt)
         xdot, meas, omega = stepper.evaluate(x, u, w, h)
@@ -410,7 +411,10 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
         heights[i] = h
         if i == steps:
             break
-        x = stepper.step(x, u, w, h, dt)
+        # the command at the step's midpoint: held over the step, it is exact to first order
+        # for the pilot's first-order hold (held at the step's start, the blades would
+        # lag the recorded commands by dt/2, which the analysis reads as a servo lag)
+        x = stepper.step(x, pilot.command(t + 0.5 * dt - delay), w, h, dt)
         if i % 100 == 0:
             if not np.all(np.isfinite(x)) or np.max(np.abs(x[b + 9:b + 12])) > \
                     DIVERGED_RATE_RAD_S or abs(x[b + 7]) > 1.3:
