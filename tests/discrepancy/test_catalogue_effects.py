@@ -128,3 +128,14 @@ def test_ground_effect_raises_thrust_near_the_ground_only():
                                                              env)[:, 2]
     assert az[0] < az[1] < 0.0  # more upward specific force the lower (z = 0.5, 0.9 m)
     assert az[3] == 0.0  # height unknown: no ground effect
+
+
+def test_an_effect_added_after_dynamic_inflow_still_feeds_the_lagged_inflow():
+    """`model + effect` keeps dynamic_inflow (KEEP_LAST) behind effects added later, so it
+    lags the total quasi-static inflow whatever order the workflow adds them in."""
+    lagged = BASE + effect_with("dynamic_inflow", {})
+    both = lagged + effect_with("wake_recirculation", {})
+    assert both.effect_names[-2:] == ["wake_recirculation", "dynamic_inflow"]
+    assert (both + effect_with("ground_effect", {})).effect_names[-3:] == [
+        "wake_recirculation", "ground_effect", "dynamic_inflow"]
+    assert (BASE + effect_with("servo_lag", {})).effect_names[-1] == "servo_lag"

@@ -115,8 +115,16 @@ class HeliModel:
         return name in self._by_name
 
     def __add__(self, other) -> HeliModel:
+        """The model with `other` (an effect or a model's effects) added: appended, but
+        before the trailing effects that declare KEEP_LAST (e.g. dynamic_inflow, which
+        lags the total inflow of the effects before it), unless they are KEEP_LAST too."""
         more = list(other.effects) if isinstance(other, HeliModel) else [other]
-        return HeliModel(list(self.effects) + more)
+        effects = list(self.effects)
+        end = len(effects)
+        if not all(getattr(e, "KEEP_LAST", False) for e in more):
+            while end > 0 and getattr(effects[end - 1], "KEEP_LAST", False):
+                end -= 1
+        return HeliModel(effects[:end] + more + effects[end:])
 
     def without(self, *names: str) -> HeliModel:
         return HeliModel([e for e in self.effects if e.name not in names])

@@ -26,6 +26,7 @@ class DynamicInflow(Effect):
     STATES = (State("lambda_0", "-", "lagged mean inflow (/(Omega R))"),)
     REQUIRES = ("main_rotor", "pitt_peters_inflow")
     SCRATCH = 1  # the quasi-static inflow
+    KEEP_LAST = True  # effects added later still feed the lagged (quasi-static) inflow
 
     @kernel
     def inflow(q, p, s, ds, load, scratch):

@@ -178,6 +178,9 @@ class Effect:
     # written in `load` is felt by an accelerometer (False for field forces: gravity).
     SCRATCH: ClassVar[int] = 0
     LOAD_SENSED: ClassVar[bool] = True
+    # Effects that act on what every effect before them produced (a lag of the total
+    # inflow): `model + effect` inserts a new effect before the trailing run of these.
+    KEEP_LAST: ClassVar[bool] = False
 
     def __init__(self, **values) -> None:
         specs = {p.name: p for p in self.PARAMETERS}
