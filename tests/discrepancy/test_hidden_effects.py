@@ -15,7 +15,6 @@ the compact scenarios of tests/discrepancy/scenarios (fixed seeds).
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 from airwake.discrepancy.add import add_effect
@@ -23,7 +22,6 @@ from airwake.discrepancy.diagnose import diagnose
 from airwake.heli.context import MEAS_CHANNELS
 
 from .flights import analysed, noise_floor
-
 
 # scenario -> the catalogue effects that model its hidden effects (the recirculation
 # scenario's truth has inflow dynamics *and* wake recirculation)

@@ -18,7 +18,6 @@ from airwake.record.flight_table import write_flight_table
 
 from .flights import analysed, noise_floor
 
-
 USER_PLUGIN = '''
 import numpy as np
 from airwake.heli import Effect, Parameter, register_effect

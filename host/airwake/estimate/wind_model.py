@@ -165,8 +165,8 @@ class WindMeasurementModel:
         if noise is None:  # rows only (first sample, after a restart): the wind stays
             noise = self._buffer("zero_noise", p.wind.shape)
             noise[:] = 0.0
-        transition_rows(p.wind, noise, self._step, self.bounds, p.hidden, g, g_prev, e_t, p1_t, p2_t, started,
-                        self.data.x[k], self.hid, x, h_pred)
+        transition_rows(p.wind, noise, self._step, self.bounds, p.hidden, g, g_prev, e_t, p1_t,
+                        p2_t, started, self.data.x[k], self.hid, x, h_pred)
         self._prepared = k
 
     def log_likelihood(self, p: Particles, k: int, sigma: float) -> np.ndarray:
