@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 from airwake.daemon.fake_boards import FakeBoard
-from airwake.link.messages import BY_NAME
+from frame_sets import recorded_frames
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -105,20 +105,6 @@ def sent_frames(boards: list[FakeBoard], states=("ok",), before_ns: float | None
         for host_ns, origin, mid, seq, u32, state in b.sent:
             if state in states and (before_ns is None or host_ns <= before_ns):
                 out.add((origin, mid, seq, u32))
-    return out
-
-
-def recorded_frames(rec) -> set[tuple[int, int, int, int]]:
-    """(origin, msg_id, seq, board_time_u32) of every decoded frame in a recording."""
-    from airwake.link.messages import BOARD_IDS
-
-    out = set()
-    topics = [t for t in rec.decoded_topics() if not t.startswith("/host/")]
-    for topic, t in rec.tables(topics).items():
-        board, name = topic.strip("/").split("/")
-        origin, mid = BOARD_IDS[board], BY_NAME[name].id
-        out.update(zip([origin] * len(t), [mid] * len(t), t.rows["seq"].tolist(),
-                       t.rows["board_time_us"].tolist(), strict=True))
     return out
 
 

@@ -20,7 +20,6 @@ import traceback
 from pathlib import Path
 
 import numpy as np
-from airwake.link.messages import BOARD_IDS, BY_NAME
 
 REPO = Path(__file__).resolve().parents[2]
 BAD_KINDS = ("crc_error", "cobs_error", "unknown_id", "def_mismatch", "oversize")
@@ -108,18 +107,6 @@ def run_flight(d: Path, scenario, *, duration_s: float, rig=None, export: bool =
 
 def summary(d: Path) -> dict:
     return json.loads((d / "rec" / "sil" / "run.json").read_text())
-
-
-def recorded_frames(rec) -> set[tuple[int, int, int, int]]:
-    """(origin, msg_id, seq, board_time_us) of every decoded frame in a recording."""
-    out = set()
-    topics = [t for t in rec.decoded_topics() if not t.startswith("/host/")]
-    for topic, t in rec.tables(topics).items():
-        board, name = topic.strip("/").split("/")
-        origin, mid = BOARD_IDS[board], BY_NAME[name].id
-        out.update(zip([origin] * len(t), [mid] * len(t), t.rows["seq"].tolist(),
-                       t.rows["board_time_us"].tolist(), strict=True))
-    return out
 
 
 def frame_logs(d: Path) -> dict[str, np.ndarray]:

@@ -11,13 +11,13 @@ import numpy as np
 from airwake.link.messages import MESSAGES
 from airwake.record.reader import open_recording
 from conftest import CLEAN_S
+from frame_sets import recorded_frames
 from sil_harness import (
     BAD_KINDS,
     as_set,
     delivered_frames,
     frame_logs,
     load_export,
-    recorded_frames,
     sent_frames,
     sim_time,
     summary,

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import numpy as np
 from airwake.record.reader import open_recording
+from frame_sets import recorded_frames
 from sil_harness import (
     BAD_KINDS,
     as_set,
     delivered_frames,
     frame_logs,
     load_export,
-    recorded_frames,
     sent_frames,
     sim_time,
     summary,
