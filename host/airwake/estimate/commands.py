@@ -1,5 +1,4 @@
-"""`airwake wind estimate FLIGHT [--model SPEC] [--particles N] [--seed N] [--score]
---out WIND.parquet`."""
+"""`airwake wind estimate FLIGHT [--model SPEC] [--method smoother|apf] [--score] --out WIND.parquet`."""
 
 from __future__ import annotations
 
@@ -11,12 +10,12 @@ import sys
 def print_score(score: dict, stream=None) -> None:
     w = (stream or sys.stdout).write
     w(f"error = estimate - truth, {score['samples']} samples after {score['burn_in_s']:g} s\n")
-    w(f"{'component':<16}{'mean':>10}{'std':>10}{'post. std':>11}"
-      f"{'Table 5.3 mean':>16}{'Table 5.3 std':>15}\n")
+    w(f"{'component':<15}{'mean':>8}{'std':>8}{'corr':>7}{'truth std':>10}{'post. std':>10}"
+      f"{'cov90':>7}{'5.3 mean':>10}{'5.3 std':>9}\n")
     for name, c in score["components"].items():
-        w(f"{name:<16}{c['error_mean']:>10.4f}{c['error_std']:>10.4f}"
-          f"{c['posterior_std_mean']:>11.4f}{c['table_5_3_mean']:>16.4f}"
-          f"{c['table_5_3_std']:>15.4f}\n")
+        w(f"{name:<15}{c['error_mean']:>8.3f}{c['error_std']:>8.3f}{c['correlation']:>7.2f}"
+          f"{c['truth_std']:>10.3f}{c['posterior_std_mean']:>10.3f}{c['coverage_90']:>7.2f}"
+          f"{c['table_5_3_mean']:>10.4f}{c['table_5_3_std']:>9.4f}\n")
 
 
 def _handle(args: argparse.Namespace) -> int:
@@ -35,25 +34,39 @@ def _handle(args: argparse.Namespace) -> int:
             raise WindEstimationError(
                 f"{args.flight}: --score needs the truth columns; missing {missing}")
     est = estimate_wind(
-        ft, model=args.model, n_particles=args.particles, sigma=args.sigma,
-        resampler=args.resampler, ess_threshold=args.ess_threshold, jitter=args.jitter,
-        seed=args.seed, process_std=args.process_std, channel_scale=args.channel_scale,
-        progress=sys.stderr.isatty() or args.progress)
+        ft, model=args.model, method=args.method, cutoff_hz=args.cutoff_hz,
+        rate_hz=args.rate_hz, em_passes=args.em_passes, airspeed_m_s=args.airspeed_m_s,
+        ins_velocity_std=args.ins_velocity_std, n_particles=args.particles,
+        sigma=args.sigma, resampler=args.resampler, ess_threshold=args.ess_threshold,
+        jitter=args.jitter, seed=args.seed, process_std=args.process_std,
+        channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress)
     write_wind(est, args.out)
-    report = {"out": str(args.out), "samples": int(len(est.df)), "seconds": est.seconds,
-              "realtime_factor": est.metadata["realtime_factor"],
-              "mean_ess": float(est.df["ess"].mean()),
-              "resampled_fraction": float(est.df["resampled"].mean()),
-              "skipped_samples": int(est.df["skipped"].sum())}
+    report = {"out": str(args.out), "method": args.method, "samples": int(len(est.df)),
+              "seconds": est.seconds, "realtime_factor": est.metadata["realtime_factor"]}
+    if args.method == "apf":
+        report.update(mean_ess=float(est.df["ess"].mean()),
+                      resampled_fraction=float(est.df["resampled"].mean()),
+                      skipped_samples=int(est.df["skipped"].sum()))
+    else:
+        report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"])
     if args.score:
         report["score"] = score_wind(est.df, ft.df, args.burn_in_s)
     if args.json:
         print(json.dumps(report, indent=2))
     else:
-        print(f"wind estimate: {report['samples']} samples in {est.seconds:.1f} s "
-              f"({report['realtime_factor']:.2f} x real time), mean ESS "
-              f"{report['mean_ess']:.0f}, resampled {100 * report['resampled_fraction']:.0f} %"
-              f" of samples, skipped {report['skipped_samples']}")
+        line = (f"wind estimate ({args.method}): {report['samples']} samples in "
+                f"{est.seconds:.1f} s ({report['realtime_factor']:.1f} x real time)")
+        if args.method == "apf":
+            line += (f", mean ESS {report['mean_ess']:.0f}, resampled "
+                     f"{100 * report['resampled_fraction']:.0f} % of samples, skipped "
+                     f"{report['skipped_samples']}")
+        else:
+            pr = report["prior"]
+            line += ("\nlearned prior: turbulence std " + " ".join(
+                f"{v:.3g}" for v in pr["sigma"]) + " (m/s x3, 1/s x3), correlation time "
+                + " ".join(f"{v:.2g}" for v in pr["tau_s"]) + " s; channel noise "
+                + " ".join(f"{v:.2g}" for v in report["noise_std"]))
+        print(line)
         if args.score:
             print_score(report["score"])
         print(f"wrote {args.out}")
@@ -77,29 +90,46 @@ def _wind_group(subparsers):
 def register(subparsers) -> None:
     sub = _wind_group(subparsers)
     p = sub.add_parser(
-        "estimate", help="6-D wind per sample with the particle filter (eq 5.17)",
+        "estimate", help="6-D wind per sample from the helicopter's dynamics",
         description="Estimate the eq 5.3 wind (mean flow v and rotation w, body axes at the "
-        "hub) at every sample of a flight with the active particle filter, from the "
-        "helicopter model's measurement channels (docs/wind-estimation.md).")
+        "hub) along a flight from the helicopter model's measurement channels: an iterated "
+        "Kalman smoother (default) or the reference's active particle filter "
+        "(docs/wind-estimation.md).")
     p.add_argument("flight", metavar="FLIGHT", help="flight table (.parquet or .csv)")
     p.add_argument("--model", default="table52",
                    help="calibrated model spec (path or shipped name; default table52)")
-    p.add_argument("--particles", type=int, default=2000, help="particles (2000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (0)")
+    p.add_argument("--method", choices=("smoother", "apf"), default="smoother",
+                   help="smoother (default): iterated EKF/RTS smoother with the wind prior "
+                   "learned from the flight; apf: the reference's particle filter (eq 5.17)")
+    p.add_argument("--cutoff-hz", type=float, default=None,
+                   help="front-end low-pass (6 Hz; below the rotor's 1/rev); apf only: 0 = "
+                   "raw flight")
+    p.add_argument("--rate-hz", type=float, default=None,
+                   help="estimator sample rate after the low-pass (15 Hz smoother, 30 Hz apf)")
+    p.add_argument("--em-passes", type=int, default=None,
+                   help="smoother passes (5: 2 relinearising, each re-learning the prior)")
+    p.add_argument("--airspeed-m-s", type=float, default=None,
+                   help="typical airspeed for the prior's correlation times (3 m/s)")
+    p.add_argument("--ins-velocity-std", type=float, default=0.05,
+                   help="INS velocity error, 1 sigma (0.05 m/s, VN-200): added to the "
+                   "mean-flow std")
+    p.add_argument("--particles", type=int, default=2000, help="apf: particles (2000)")
+    p.add_argument("--seed", type=int, default=0, help="apf: random seed (0)")
     p.add_argument("--sigma", type=float, default=0.5,
-                   help="eq 5.17 error sensitivity factor (0.5, on noise-scaled channels)")
+                   help="apf: eq 5.17 error sensitivity factor (0.5, on noise-scaled channels)")
     p.add_argument("--resampler", default="systematic",
                    choices=("systematic", "stratified", "roulette", "multinomial"),
-                   help="systematic on ESS < N/2 (default) or the reference's roulette wheel "
-                   "(multinomial, every sample)")
+                   help="apf: systematic on ESS < N/2 (default) or the reference's roulette "
+                   "wheel (multinomial, every sample)")
     p.add_argument("--ess-threshold", type=float, default=None,
-                   help="resample when ESS < this x N (default 0.5; 1 for roulette)")
+                   help="apf: resample when ESS < this x N (default 0.5; 1 for roulette)")
     p.add_argument("--jitter", type=float, default=0.2,
-                   help="regularisation kernel width, x Silverman's bandwidth (0.2)")
+                   help="apf: regularisation kernel width, x Silverman's bandwidth (0.2)")
     p.add_argument("--process-std", type=float, nargs=6, metavar="Q",
-                   help="random-walk intensity per component (m/s/sqrt(s) x3, rad/s/sqrt(s) x3)")
+                   help="apf: random-walk intensity per component (m/s/sqrt(s) x3, "
+                   "rad/s/sqrt(s) x3)")
     p.add_argument("--channel-scale", type=float, nargs=6, metavar="S",
-                   help="per-channel noise scales; default: estimated from the data")
+                   help="apf: per-channel noise scales; default: estimated from the data")
     p.add_argument("--score", action="store_true",
                    help="compare with the flight's truth_wind_* columns and Table 5.3")
     p.add_argument("--burn-in-s", type=float, default=2.0,

@@ -1,16 +1,19 @@
-"""Wind estimation over a flight: run the particle filter, write the estimate, score it.
+"""Wind estimation over a flight: run an estimator, write the estimate, score it.
 
-    est = estimate_wind("flight.parquet", model="table52", n_particles=2000, seed=0)
-    est.df            # t_s, wind_vx_m_s ... wind_wz_rad_s, *_std, ess, resampled, skipped
-    score_wind(est.df, flight_df)   # error mean/std per component vs truth_wind_*
+    est = estimate_wind("flight.parquet", model="fitted.toml")          # the smoother
+    est = estimate_wind("flight.parquet", model="fitted.toml", method="apf", seed=0)
+    est.df            # t_s, wind_vx_m_s ... wind_wz_rad_s, *_std (+ ess, resampled, skipped)
+    score_wind(est.df, flight_df)   # error, correlation, 90 % coverage vs truth_wind_*
     write_wind(est, "wind.parquet")
 
-Output columns (one row per flight sample): `t_s`; the posterior mean `wind_vx_m_s`,
-`wind_vy_m_s`, `wind_vz_m_s`, `wind_wx_rad_s`, `wind_wy_rad_s`, `wind_wz_rad_s` (eq 5.3,
-body axes, at the main-rotor hub; w is the rotation coefficient, curl = 2 w) and their
-posterior std `<name>_std`; `ess` (effective sample size after the update),
-`resampled` and `skipped` flags. Parquet metadata (key "airwake"): model spec, flight,
-particles, sigma, resampler, seed, process noise, channel scales.
+Output columns (one row per estimator sample: the front end's decimated samples, 15 Hz
+for the smoother by default; match other tables by `t_s`): `t_s`; the posterior mean
+`wind_vx_m_s`, `wind_vy_m_s`, `wind_vz_m_s`, `wind_wx_rad_s`, `wind_wy_rad_s`,
+`wind_wz_rad_s` (eq 5.3, body axes, at the main-rotor hub; w is the rotation
+coefficient, curl = 2 w) and their posterior std `<name>_std` (the mean-flow ones
+include the INS velocity error); the APF adds `ess`, `resampled` and `skipped`. Parquet
+metadata (key "airwake"): method, model spec, flight, front end, the learned prior and
+channel noise (smoother) or particles, sigma, resampler, seed (APF).
 """
 
 from __future__ import annotations
@@ -41,21 +44,133 @@ class WindEstimate:
     seconds: float = 0.0
 
 
-def estimate_wind(flight, model="table52", n_particles: int = 2000, sigma: float = 0.5,
+METHODS = ("smoother", "apf")
+# VN-200 datasheet: velocity accuracy 0.05 m/s (1 sigma). The wind is the air velocity
+# over the ground, so the INS velocity error goes one to one into v (not into w).
+INS_VELOCITY_STD_M_S = 0.05
+APF_RATE_HZ = 30.0
+
+
+def estimate_wind(flight, model="table52", method: str = "smoother", *,
+                  cutoff_hz: float | None = None, rate_hz: float | None = None,
+                  em_passes: int | None = None, airspeed_m_s: float | None = None,
+                  ins_velocity_std: float = INS_VELOCITY_STD_M_S,
+                  n_particles: int = 2000, sigma: float = 0.5,
                   resampler: str = "systematic", ess_threshold: float | None = None,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
                   channel_scale=None, steps: int | None = None,
                   progress: bool = False) -> WindEstimate:
-    """Run the wind particle filter over a flight table (path, FlightTable or DataFrame).
+    """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
-    resampler: 'systematic' (default, on ESS < N/2), 'stratified', or 'roulette' /
-    'multinomial' (the reference: every sample unless ess_threshold is given)."""
-    import pandas as pd
-
+    method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
+    prior learned from the flight (`airwake.estimate.smoother`); "apf": the reference's
+    active particle filter (eq 5.17; resampler 'systematic' on ESS < N/2, 'stratified',
+    or 'roulette' / 'multinomial' = the reference, every sample unless ess_threshold is
+    given). Both read the front end's low-passed, decimated samples
+    (`airwake.estimate.prefilter`: cutoff_hz 6, rate_hz 15 for the smoother and 30 for the
+    APF; cutoff_hz=0 feeds the APF the raw flight as the reference did)."""
     from airwake.calibrate import CalibrationError, load_flight, load_model
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
+
+    if method not in METHODS:
+        raise WindEstimationError(f"unknown method {method!r}; use one of {list(METHODS)}")
+    if not (np.isfinite(ins_velocity_std) and ins_velocity_std >= 0):
+        raise WindEstimationError(
+            f"--ins-velocity-std {ins_velocity_std!r}: must be a number >= 0")
+    heli = load_model(model)
+    ft = load_flight(flight)
+    try:
+        data = FlightData.from_flight(heli, ft, channel_scale=channel_scale)
+    except CalibrationError as exc:
+        raise WindEstimationError(str(exc)) from None
+    meta = {
+        "source": "airwake wind estimate",
+        "method": method,
+        "flight": str(getattr(ft, "path", "") or ""),
+        "model_spec": str(model) if not hasattr(model, "effects") else "<model>",
+        "frame": "body axes at the main-rotor hub (eq 5.3)",
+        "ins_velocity_std_m_s": float(ins_velocity_std),
+    }
+    if method == "smoother":
+        df, extra, seconds = _run_smoother(
+            heli, data, 6.0 if cutoff_hz is None else cutoff_hz,
+            15.0 if rate_hz is None else rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
+            progress)
+    else:
+        df, extra, seconds = _run_apf(
+            heli, data, 6.0 if cutoff_hz is None else cutoff_hz,
+            APF_RATE_HZ if rate_hz is None else rate_hz, ins_velocity_std, n_particles,
+            sigma, resampler, ess_threshold, jitter, seed, process_std, init_half_width,
+            channel_scale, steps, progress)
+    meta.update(extra)
+    span = float(df["t_s"].iloc[-1] - df["t_s"].iloc[0]) if len(df) > 1 else 0.0
+    meta["seconds"] = seconds
+    meta["realtime_factor"] = span / seconds if seconds > 0 else 0.0
+    return WindEstimate(df, meta, seconds)
+
+
+def _frame(t, mean, std, ins_velocity_std, extra_cols=None):
+    """The output table: posterior mean and std per component; the INS velocity error
+    (not observable from the dynamics: it shifts the air velocity one to one) is added
+    in quadrature to the mean-flow components' std."""
+    import pandas as pd
+
+    std = np.array(std, dtype=float)
+    std[:, :3] = np.sqrt(std[:, :3] ** 2 + ins_velocity_std**2)
+    cols = {"t_s": t}
+    for i, name in enumerate(WIND_NAMES):
+        cols[name] = mean[:, i]
+    for i, name in enumerate(WIND_NAMES):
+        cols[f"{name}_std"] = std[:, i]
+    cols.update(extra_cols or {})
+    return pd.DataFrame(cols)
+
+
+def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
+                  progress):
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.estimate.prefilter import prefilter
+    from airwake.estimate.smoother import ITERATIONS, WindSmoother
+    from airwake.estimate.wind_prior import AIRSPEED_M_S, WindPrior
+    from airwake.progress import Progress
+
+    if cutoff_hz <= 0:
+        raise WindEstimationError("--cutoff-hz 0 (no front end) is for --method apf only: "
+                                  "the smoother needs the low-passed, decimated samples")
+    pre = prefilter(data, heli, cutoff_hz, rate_hz)
+    radius = _rotor_radius(heli)
+    prior = WindPrior.from_physics(radius, AIRSPEED_M_S if airspeed_m_s is None
+                                   else airspeed_m_s)
+    passes = ITERATIONS if em_passes is None else int(em_passes)
+    try:
+        sm = WindSmoother(heli, pre, prior, iterations=passes)
+    except ValueError as exc:
+        raise WindEstimationError(f"{data.source}: {exc}") from None
+    bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
+    res = sm.run(bar)
+    span = float(res.t[-1] - res.t[0]) if res.t.size > 1 else 0.0
+    bar.finish(f"{span / max(res.seconds, 1e-9):.1f} x real time")
+    df = _frame(res.t, res.mean, res.std, ins_velocity_std)
+    extra = {
+        "front_end": {"cutoff_hz": pre.cutoff_hz, "rate_hz": pre.rate_hz,
+                      "factor": pre.factor},
+        "prior_start": prior.to_dict(),
+        "prior": res.prior.to_dict(),
+        "noise_std": res.noise_std.tolist(),
+        "passes": passes,
+        "history": res.history,
+        "model_rows_evaluated": int(res.evaluations),
+    }
+    return df, extra, res.seconds
+
+
+def _run_apf(heli, data, cutoff_hz, rate_hz, ins_velocity_std, n_particles, sigma, resampler,
+             ess_threshold, jitter, seed, process_std, init_half_width, channel_scale, steps,
+             progress):
+    from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.particle_filter import ParticleFilter
+    from airwake.estimate.prefilter import prefilter
     from airwake.estimate.resample import RESAMPLERS
     from airwake.estimate.wind_model import INIT_HALF_WIDTH, PROCESS_STD, WindMeasurementModel
     from airwake.progress import Progress
@@ -65,12 +180,11 @@ def estimate_wind(flight, model="table52", n_particles: int = 2000, sigma: float
             f"unknown resampler {resampler!r}; use one of {sorted(RESAMPLERS)}")
     if ess_threshold is None:
         ess_threshold = 1.0 if resampler in ("roulette", "multinomial") else 0.5
-    heli = load_model(model)
-    ft = load_flight(flight)
-    try:
-        data = FlightData.from_flight(heli, ft, channel_scale=channel_scale)
-    except CalibrationError as exc:
-        raise WindEstimationError(str(exc)) from None
+    front = None
+    if cutoff_hz > 0:
+        pre = prefilter(data, heli, cutoff_hz, rate_hz)
+        data = pre.data  # keeps the raw flight's channel scales: conservative after the filter
+        front = {"cutoff_hz": pre.cutoff_hz, "rate_hz": pre.rate_hz, "factor": pre.factor}
     try:
         wm = WindMeasurementModel(heli, data,
                                   PROCESS_STD if process_std is None else process_std,
@@ -80,32 +194,29 @@ def estimate_wind(flight, model="table52", n_particles: int = 2000, sigma: float
     except ValueError as exc:
         raise WindEstimationError(str(exc)) from None
     n = wm.n_steps if steps is None else min(steps, wm.n_steps)
-    bar = Progress("wind estimate", n, " samples", enabled=progress)
+    bar = Progress("wind estimate (apf)", n, " samples", enabled=progress)
     t0 = time.perf_counter()
     out = pf.run(n, bar)
     seconds = time.perf_counter() - t0
-    bar.finish(f"{n / max(seconds, 1e-9) / 150.0:.2f} x real time at 150 Hz")
-    cols = {"t_s": data.t[:n]}
-    for i, name in enumerate(WIND_NAMES):
-        cols[name] = out.mean[:, i]
-    for i, name in enumerate(WIND_NAMES):
-        cols[f"{name}_std"] = out.std[:, i]
-    cols["ess"] = out.ess
-    cols["resampled"] = out.resampled
-    cols["skipped"] = out.skipped
-    meta = {
-        "source": "airwake wind estimate",
-        "flight": str(getattr(ft, "path", "") or ""),
-        "model_spec": str(model) if not hasattr(model, "effects") else "<model>",
+    span = float(data.t[n - 1] - data.t[0]) if n > 1 else 0.0
+    bar.finish(f"{span / max(seconds, 1e-9):.2f} x real time")
+    df = _frame(data.t[:n], out.mean, out.std, ins_velocity_std,
+                {"ess": out.ess, "resampled": out.resampled, "skipped": out.skipped})
+    extra = {
+        "front_end": front,
         "particles": int(n_particles), "sigma": float(sigma), "resampler": resampler,
         "ess_threshold": float(ess_threshold), "jitter": float(jitter), "seed": int(seed),
         "process_std": [float(v) for v in wm.process_std],
         "channel_scale": [float(v) for v in wm.scale],
-        "seconds": seconds, "realtime_factor": float((data.t[n - 1] - data.t[0]) / seconds)
-        if n > 1 else 0.0,
-        "frame": "body axes at the main-rotor hub (eq 5.3)",
     }
-    return WindEstimate(pd.DataFrame(cols), meta, seconds)
+    return df, extra, seconds
+
+
+def _rotor_radius(heli) -> float:
+    try:
+        return float(heli["main_rotor"].parameters()["radius_m"])
+    except KeyError:
+        return 0.67
 
 
 def check_output(path):
@@ -141,27 +252,50 @@ def write_wind(est: WindEstimate, path) -> None:
         raise
 
 
+def truth_at(wind_df, flight_df) -> np.ndarray:
+    """(n, 6) the flight's truth_wind_* columns at the wind table's times (the estimate
+    may be decimated: matched by time, not row)."""
+    t = np.asarray(wind_df["t_s"], dtype=float)
+    tf = np.asarray(flight_df["t_s"], dtype=float)
+    return np.column_stack([np.interp(t, tf, np.asarray(flight_df[c], float))
+                            for c in TRUTH_WIND])
+
+
+COVERAGE_Z90 = 1.6448536269514722  # two-sided 90 % interval of a normal: +-1.645 std
+
+
 def score_wind(wind_df, flight_df, burn_in_s: float = 2.0) -> dict:
-    """Error (estimate - truth) mean and std per component after `burn_in_s` of the
-    flight, next to Table 5.3. Raises WindEstimationError when the flight has no truth."""
+    """Error (estimate - truth) per component after `burn_in_s`: mean, std, RMS, the
+    correlation of estimate and truth, the mean posterior std and how often the 90 %
+    interval (mean +- 1.645 std) holds the truth, next to Table 5.3. Raises
+    WindEstimationError when the flight has no truth."""
     from airwake.estimate.errors import WindEstimationError
 
     missing = [c for c in TRUTH_WIND if c not in flight_df.columns]
     if missing:
         raise WindEstimationError(f"--score needs the flight's truth columns; missing {missing}")
     t = np.asarray(wind_df["t_s"], dtype=float)
-    n = t.size
-    keep = t >= t[0] + burn_in_s
+    truth = truth_at(wind_df, flight_df)
+    keep = (t >= t[0] + burn_in_s) if t.size else np.zeros(0, bool)
     out = {"burn_in_s": burn_in_s, "samples": int(keep.sum()), "components": {}}
-    for name, truth in zip(WIND_NAMES, TRUTH_WIND, strict=True):
-        err = (np.asarray(wind_df[name], float) - np.asarray(flight_df[truth], float)[:n])[keep]
+    for j, name in enumerate(WIND_NAMES):
+        est = np.asarray(wind_df[name], float)[keep]
+        tru = truth[keep, j]
+        err = est - tru
         std_post = np.asarray(wind_df[f"{name}_std"], float)[keep]
         ref_mean, ref_std = TABLE_5_3[name]
+        ok = err.size > 1
+        corr = float(np.corrcoef(est, tru)[0, 1]) if ok and np.std(est) > 0 and np.std(
+            tru) > 0 else float("nan")
         out["components"][name] = {
-            "error_mean": float(np.mean(err)) if err.size else float("nan"),
-            "error_std": float(np.std(err)) if err.size else float("nan"),
-            "error_rms": float(np.sqrt(np.mean(err * err))) if err.size else float("nan"),
-            "posterior_std_mean": float(np.mean(std_post)) if err.size else float("nan"),
+            "error_mean": float(np.mean(err)) if ok else float("nan"),
+            "error_std": float(np.std(err)) if ok else float("nan"),
+            "error_rms": float(np.sqrt(np.mean(err * err))) if ok else float("nan"),
+            "truth_std": float(np.std(tru)) if ok else float("nan"),
+            "correlation": corr,
+            "posterior_std_mean": float(np.mean(std_post)) if ok else float("nan"),
+            "coverage_90": float(np.mean(np.abs(err) <= COVERAGE_Z90 * std_post))
+            if ok else float("nan"),
             "table_5_3_mean": ref_mean,
             "table_5_3_std": ref_std,
         }
