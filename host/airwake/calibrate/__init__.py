@@ -43,17 +43,25 @@ def load_flight(flight):
     return flight
 
 
+CUTOFF_HZ = 6.0  # the wind estimator's front end (airwake.estimate.prefilter)
+
+
 def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
               window_s: float = 2.0, warmup_s: float = 1.0, max_windows: int | None = None,
               seed: int = 0, particles: int = 2000, iterations: int = 500,
               pso_windows: int | None = 16, spread: float = 0.5, max_nfev: int = 60,
-              channel_scale=None, progress: bool = False) -> FitResult:
+              channel_scale=None, cutoff_hz: float | None = CUTOFF_HZ,
+              progress: bool = False) -> FitResult:
     """Fit the model's free parameters to a flight (see docs/calibration.md).
 
-    params: None (every non-fixed parameter) or names/globs. max_windows: use an evenly
-    spaced subset of that many windows (None = the whole flight). The seed drives the
-    PSO (initial swarm, r1/r2, the window subset) and nothing else."""
-    from airwake.calibrate.params import select_parameters
+    params: None (the non-fixed parameters this flight identifies, by subset selection:
+    `params.identified_subset`) or names/globs (fitted as named). max_windows: use an
+    evenly spaced subset of that many windows (None = the whole flight). cutoff_hz: the
+    front end's zero-phase low-pass of every signal (the wind estimator's, so the model is
+    fitted to what the estimator will compare it with; None or 0: the raw flight). The
+    seed drives the PSO (initial swarm, r1/r2, the window subset) and nothing else."""
+    from airwake.calibrate.envelope import flight_envelope, wind_trust
+    from airwake.calibrate.params import identified_subset, select_parameters
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
     from airwake.progress import Progress
 
@@ -65,11 +73,21 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     if not free.any():
         raise CalibrationError("no free parameter to fit (every selected one is fixed)")
     data = FlightData.from_flight(model, ft, channel_scale=channel_scale)
+    front = None
+    if cutoff_hz:
+        data, front = _front_end(data, model, float(cutoff_hz), channel_scale)
     windows = make_windows(data, window_s, warmup_s)
     if max_windows is not None and max_windows < windows.n_windows:
         pick = np.unique(np.linspace(0, windows.n_windows - 1, max_windows).round().astype(int))
         windows = windows.subset(pick)
     pred = WindowedPredictor(model, data, windows)
+    held = []
+    if params is None:
+        free, held = identified_subset(model, pred, free)
+    if front is not None and channel_scale is None:
+        model, scale = _reweight(model, pred, free, max_nfev, progress)
+        data.scale = scale
+        front["channel_scale"] = scale.tolist()
     if method == "lsq":
         from airwake.calibrate.lsq import fit_lsq
 
@@ -82,9 +100,57 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
         result = fit_pso(model, pred, free, np.random.default_rng(seed), particles,
                          iterations, pso_windows, spread, progress=bar)
     bar.finish(f"rms {np.sqrt(np.mean(result.rms_after ** 2)):.4g}")
+    envelope = flight_envelope(data, model)
+    result.notes[:0] = held
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
-                       scored_samples=int(windows.n_scored), seed=int(seed))
+                       scored_samples=int(windows.n_scored), seed=int(seed),
+                       held=list(held), front_end=front, envelope=envelope,
+                       wind_trust=wind_trust(envelope))
     return result
+
+
+REWEIGHT_WINDOWS = 16
+
+
+def _reweight(model, pred, free, max_nfev, progress):
+    """Channel weights from the data: a first least-squares fit on an evenly spaced
+    subset of the windows, then each channel's scale = its residual RMS there (the
+    maximum-likelihood weights when each channel's misfit variance is unknown). Returns
+    the first fit's model (the start of the full fit) and the scales."""
+    from airwake.calibrate.lsq import fit_lsq
+    from airwake.calibrate.residuals import WindowedPredictor
+    from airwake.progress import Progress
+
+    win = pred.windows
+    pick = np.unique(np.linspace(0, win.n_windows - 1, min(REWEIGHT_WINDOWS, win.n_windows))
+                     .round().astype(int))
+    coarse = WindowedPredictor(model, pred.data, win.subset(pick))
+    bar = Progress("calibrate lsq (weights)", max_nfev, " evaluations", enabled=progress)
+    first = fit_lsq(model, coarse, free, max_nfev=max_nfev, coarse_fraction=0.0,
+                    progress=bar)
+    bar.finish()
+    pred.evaluations += coarse.evaluations
+    scale = np.maximum(first.rms_after, 1e-3 * np.max(first.rms_after))
+    return first.model, scale
+
+
+def _front_end(data, model, cutoff_hz: float, channel_scale):
+    """The low-passed flight at its own rate (no decimation: the windowed predictor's
+    fixed-Jacobian rotor step needs the full rate) and its channel scales: the raw
+    white-noise scale times sqrt(2 f_c / f_s), the share of white noise the filter passes,
+    unless given."""
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.estimate.prefilter import prefilter
+
+    fs = 1.0 / data.dt
+    try:
+        pre = prefilter(data, model, cutoff_hz, fs)
+    except WindEstimationError as exc:
+        raise CalibrationError(str(exc).replace("--cutoff-hz", "cutoff_hz")) from None
+    out = pre.data
+    if channel_scale is None:
+        out.scale = data.scale * np.sqrt(min(2.0 * cutoff_hz / fs, 1.0))
+    return out, {"cutoff_hz": float(cutoff_hz), "rate_hz": float(fs)}
 
 
 def check_output(path) -> Path:
@@ -95,7 +161,7 @@ def check_output(path) -> Path:
     return p
 
 
-def write_spec(model, path, description: str = "") -> Path:
+def write_spec(model, path, description: str = "", calibration: dict | None = None) -> Path:
     """save_spec to a temporary file in the target directory, then rename: a failed or
     interrupted write never leaves a half-written spec."""
     from airwake.heli import save_spec
@@ -104,7 +170,7 @@ def write_spec(model, path, description: str = "") -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}-", suffix=".toml", dir=p.parent)
     os.close(fd)
     try:
-        save_spec(model, tmp, name=p.stem, description=description)
+        save_spec(model, tmp, name=p.stem, description=description, calibration=calibration)
         # save_spec resolves plugin paths relative to the file: same directory, same paths
         os.replace(tmp, p)
     except BaseException:

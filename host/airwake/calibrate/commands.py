@@ -41,8 +41,27 @@ def print_report(result, out_path, stream=None) -> None:
         w("\nidentifiability:\n")
         for note in result.notes:
             w(f"  - {note}\n")
+    trust = info.get("wind_trust")
+    if trust:
+        w("\nwind components this model can be trusted for (the flight's envelope):\n")
+        for comp, t in trust.items():
+            w(f"  {comp}: {'trusted' if t['trusted'] else 'NOT trusted'} - {t['why']}\n")
     if out_path:
         w(f"\nwrote {out_path}\n")
+
+
+def calibration_table(result, flight, start) -> dict:
+    """The spec's [calibration] table: what the model was fitted to and the envelope the
+    wind estimator checks its flights against (TOML: no None values)."""
+    info = result.info
+    out = {"flight": str(flight), "method": result.method, "start": str(start),
+           "free_parameters": list(result.names)}
+    if info.get("front_end"):
+        out["front_end"] = dict(info["front_end"])
+    if info.get("envelope"):
+        out["envelope"] = info["envelope"]
+        out["trusted"] = {k: v["trusted"] for k, v in info["wind_trust"].items()}
+    return out
 
 
 def _handle(args: argparse.Namespace) -> int:
@@ -54,12 +73,18 @@ def _handle(args: argparse.Namespace) -> int:
         window_s=args.window_s, warmup_s=args.warmup_s, max_windows=args.max_windows,
         seed=args.seed, particles=args.particles, iterations=args.iterations,
         pso_windows=args.pso_windows or None, max_nfev=args.max_nfev,
-        channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress)
+        channel_scale=args.channel_scale, cutoff_hz=args.cutoff_hz or None,
+        progress=sys.stderr.isatty() or args.progress)
     desc = (f"calibrated by airwake calibrate --method {args.method} from {args.flight} "
             f"(start {args.model})")
-    path = write_spec(result.model, args.out, desc)
+    path = write_spec(result.model, args.out, desc, calibration=calibration_table(
+        result, args.flight, args.model))
+    info = result.info
     if args.json:
-        print(json.dumps({**result.to_dict(), "spec": str(path)}, indent=2))
+        print(json.dumps({**result.to_dict(), "spec": str(path),
+                          "held": info.get("held", []), "front_end": info.get("front_end"),
+                          "envelope": info.get("envelope"),
+                          "wind_trust": info.get("wind_trust")}, indent=2))
     else:
         print_report(result, path)
     return 0
@@ -78,8 +103,11 @@ def register(subparsers) -> None:
                    help="starting model spec (path or shipped name; default table51)")
     p.add_argument("--method", choices=("lsq", "pso"), default="lsq")
     p.add_argument("--params", nargs="+", metavar="NAME",
-                   help="parameters to fit: names or globs ('main_rotor.*'); default: every "
-                   "parameter not marked fixed")
+                   help="parameters to fit: names or globs ('main_rotor.*'); default: the "
+                   "parameters not marked fixed that this flight identifies (subset selection)")
+    p.add_argument("--cutoff-hz", type=float, default=6.0,
+                   help="front-end zero-phase low-pass of every signal, Hz (6, the wind "
+                   "estimator's; 0 = fit the raw flight)")
     p.add_argument("--out", required=True, metavar="SPEC", help="fitted model spec to write")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.add_argument("--seed", type=int, default=0, help="PSO random seed (default 0)")

@@ -49,3 +49,56 @@ def fit_bounds(model, free: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Bounds (lo, hi) of the free parameters, from the effects' declarations."""
     lo, hi = model.bounds()
     return lo[free], hi[free]
+
+
+# Subset selection: a parameter joins the fit while its Jacobian column (normalised) adds
+# a direction of at least this size relative to the strongest one (pivoted QR diagonal).
+SUBSET_RCOND = 2e-3
+SUBSET_WINDOWS = 12
+
+
+def identified_subset(model, predictor, candidates: np.ndarray,
+                      rcond: float = SUBSET_RCOND) -> tuple[np.ndarray, list]:
+    """The candidates this flight identifies, and a note per one it does not.
+
+    Subset selection (Golub, Klema & Stewart 1976): the Jacobian of the weighted
+    residuals at the starting values (forward differences, on an evenly spaced subset of
+    the windows), columns normalised, is factored by QR with column pivoting; the pivot
+    order ranks the parameters by the new direction each adds to those before it, and a
+    parameter whose |R_kk| falls below `rcond` x |R_00| is held at its starting value:
+    the flight cannot tell it from a combination of the others (a hover flight and the
+    fuselage's drag areas, the Lock number against the lift slope and profile drag).
+    Returns (mask over model.parameter_names, notes)."""
+    from scipy.linalg import qr
+
+    from airwake.calibrate.lsq import _Problem
+    from airwake.calibrate.residuals import WindowedPredictor
+
+    win = predictor.windows
+    if win.n_windows > SUBSET_WINDOWS:
+        pick = np.unique(np.linspace(0, win.n_windows - 1, SUBSET_WINDOWS).round().astype(int))
+        predictor = WindowedPredictor(model, predictor.data, win.subset(pick))
+    full0 = model.parameter_vector()
+    lo, hi = fit_bounds(model, candidates)
+    q0 = np.clip((full0[candidates] - lo) / (hi - lo), 0.0, 1.0)
+    jac = _Problem(predictor, full0, candidates, lo, hi).jac(q0)
+    norms = np.linalg.norm(jac, axis=0)
+    names = [n for n, c in zip(model.parameter_names, candidates, strict=True) if c]
+    idx = np.flatnonzero(candidates)
+    mask = candidates.copy()
+    notes = []
+    if not np.any(norms > 0):
+        return mask, notes
+    jn = jac / np.where(norms > 0, norms, 1.0)
+    _, r, piv = qr(jn, mode="economic", pivoting=True)
+    diag = np.abs(np.diag(r))
+    ref = diag[0] if diag.size else 0.0
+    for rank, col in enumerate(piv):
+        weak = norms[col] == 0 or rank >= diag.size or diag[rank] < rcond * ref
+        if weak:
+            mask[idx[col]] = False
+            ratio = diag[rank] / ref if rank < diag.size and ref > 0 else 0.0
+            notes.append(f"{names[col]}: held at {full0[idx[col]]:.6g} (not identified by "
+                         f"this flight: adds {ratio:.1e} of the strongest parameter's "
+                         "direction to the residuals)")
+    return mask, notes

@@ -31,7 +31,7 @@ from airwake.heli.effects import (
 )
 from airwake.heli.model import INPUT_NAMES, WIND_NAMES, HeliModel
 from airwake.heli.plugins import load_plugin
-from airwake.heli.spec import SpecError, builtin_spec, load_spec, save_spec
+from airwake.heli.spec import SpecError, builtin_spec, load_spec, save_spec, spec_calibration
 
 
 def default_effects() -> list[Effect]:
@@ -59,4 +59,5 @@ __all__ = [
     "MainRotor", "Parameter", "PittPetersInflow", "RigidBody", "State", "TailRotor",
     "effect_class", "register_effect", "registered_effects", "default_effects",
     "default_model", "load_plugin", "SpecError", "builtin_spec", "load_spec", "save_spec",
+    "spec_calibration",
 ]

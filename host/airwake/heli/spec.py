@@ -12,6 +12,10 @@
 
 `load_spec(path)` builds the `HeliModel`; `save_spec(model, path)` writes every parameter
 value (floats as Python's shortest round-trip repr), so load(save(m)) == m exactly.
+A spec written by `airwake calibrate` also carries a `[calibration]` table (the flight,
+the method and the envelope of air velocities and rates it covered, which the wind
+estimator checks its flights against); `spec_calibration(path)` reads it, the model
+ignores it.
 """
 
 from __future__ import annotations
@@ -54,9 +58,10 @@ def load_spec(path) -> HeliModel:
         raise SpecError(f"model spec {p} not found") from None
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"{p}: not valid TOML: {exc}") from None
-    unknown = sorted(set(data) - {"model", "effects"})
+    unknown = sorted(set(data) - {"model", "effects", "calibration"})
     if unknown:
-        raise SpecError(f"{p}: unknown top-level key(s) {unknown}; expected [model], [effects.*]")
+        raise SpecError(f"{p}: unknown top-level key(s) {unknown}; expected [model], "
+                        "[effects.*], [calibration]")
     model = data.get("model", {})
     names = model.get("effects")
     if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
@@ -101,10 +106,29 @@ def spec_dict(model: HeliModel, name: str = "", description: str = "", base_dir=
     return {"model": head, "effects": values}
 
 
-def save_spec(model: HeliModel, path, name: str = "", description: str = "") -> Path:
-    """Write `model` as a TOML spec (every parameter value, exactly)."""
+def save_spec(model: HeliModel, path, name: str = "", description: str = "",
+              calibration: dict | None = None) -> Path:
+    """Write `model` as a TOML spec (every parameter value, exactly), with an optional
+    [calibration] table."""
     p = Path(path)
-    text = tomli_w.dumps(spec_dict(model, name or p.stem, description, base_dir=p.parent.resolve()))
+    data = spec_dict(model, name or p.stem, description, base_dir=p.parent.resolve())
+    if calibration:
+        data["calibration"] = calibration
+    text = tomli_w.dumps(data)
     header = "# airwake helicopter model spec (see docs/effects.md)\n"
     p.write_text(header + text)
     return p
+
+
+def spec_calibration(spec) -> dict | None:
+    """The [calibration] table of a spec file (None for a shipped name, a model object
+    or a spec without one)."""
+    if not isinstance(spec, (str, Path)):
+        return None
+    p = Path(spec)
+    if not p.is_file():
+        return None
+    try:
+        return tomllib.loads(p.read_text()).get("calibration")
+    except (OSError, tomllib.TOMLDecodeError):
+        return None
