@@ -285,6 +285,9 @@ class SilRun:
                     ",".join(repr(float(v)) for v in build_config.rover_antenna_to_hub_frd_m),
                     "--base-antenna-height-m",
                     repr(float(build_config.base_antenna_height_above_deck_m))]
+            if build_config.base_antenna_ship_xy_m is not None:
+                cmd += ["--base-antenna-ship-m",
+                        ",".join(repr(float(v)) for v in build_config.base_antenna_ship_xy_m)]
         if "losa" in rig.boards:
             cmd += ["--tracker-height-m", repr(rig.tracker_height_m)]
         cmd += ["--meta", f"sil_scenario={self.scenario.name}", "--meta", f"sil_seed={self.seed}",

@@ -582,8 +582,11 @@ def build_config(result: SimResult):
     m = cfg.rc.mapping
     rigging = PwmRigging(center_us=m.center_us, gain_rad_per_us=m.gain_rad_per_us,
                          offset_rad=m.offset_rad)
+    ship_xy = (tuple(float(v) for v in cfg.base_antenna_m[:2])
+               if result.ship is not None else None)
     return FlightBuildConfig(ned_origin_lla=tuple(cfg.vn200.origin_lla),
                              base_antenna_height_above_deck_m=base_h,
+                             base_antenna_ship_xy_m=ship_xy,
                              rover_antenna_to_hub_frd_m=tuple(rover_to_hub.tolist()),
                              rigging=rigging)
 

@@ -32,6 +32,9 @@ def _handle(args: argparse.Namespace) -> int:
         meta["ned_origin_lla"] = _floats(args.ned_origin, 3, "--ned-origin")
     if args.base_antenna_height_m is not None:
         meta["base_antenna_height_above_deck_m"] = args.base_antenna_height_m
+    if args.base_antenna_ship_m is not None:
+        meta["base_antenna_ship_xy_m"] = _floats(args.base_antenna_ship_m, 2,
+                                                  "--base-antenna-ship-m")
     if args.rover_antenna_to_hub_m is not None:
         meta["rover_antenna_to_hub_frd_m"] = _floats(args.rover_antenna_to_hub_m, 3,
                                                       "--rover-antenna-to-hub-m")
@@ -77,6 +80,9 @@ def register(subparsers) -> None:
     g.add_argument("--ned-origin", metavar="LAT,LON,H", help="origin of pos_*_m (deg, deg, m)")
     g.add_argument("--base-antenna-height-m", type=float,
                    help="base RTK antenna height above the deck (m)")
+    g.add_argument("--base-antenna-ship-m", metavar="X,Y",
+                   help="base RTK antenna on the ship: x forward of the hangar step, y "
+                   "starboard (m); with it the export places the hub in the ship frame")
     g.add_argument("--rover-antenna-to-hub-m", metavar="X,Y,Z",
                    help="rover antenna -> rotor hub, body axes FRD (m)")
     g.add_argument("--tracker-height-m", type=float,

@@ -1,4 +1,5 @@
-"""`airwake wind estimate FLIGHT [--model SPEC] [--method smoother|apf] [--score] --out WIND.parquet`."""
+"""`airwake wind estimate FLIGHT [--model SPEC] [--method smoother|apf] [--score] --out WIND`
+and `airwake wind map WIND --flight FLIGHT --out MAPDIR [--cell-m 0.5] [--score]`."""
 
 from __future__ import annotations
 
@@ -138,3 +139,80 @@ def register(subparsers) -> None:
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.add_argument("--progress", action="store_true", help="progress lines even when piped")
     p.set_defaults(func=_handle)
+    register_map(sub)
+
+
+def _map_handle(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.estimate.map_report import make_map
+    from airwake.estimate.map_plots import ShipOutline
+    from airwake.record.flight_table import FlightTableError, load_flight_table
+
+    out = Path(args.out)
+    if not out.parent.is_dir():
+        raise WindEstimationError(f"cannot write {out}: directory {out.parent} does not exist")
+    try:
+        wind = load_flight_table(args.wind, required=())
+    except FlightTableError as exc:
+        raise WindEstimationError(str(exc)) from None
+    try:
+        flight = load_flight_table(args.flight, required=("t_s",))
+    except FlightTableError as exc:
+        raise WindEstimationError(str(exc)) from None
+    ship = ShipOutline(args.deck_length_m, args.beam_m, args.hangar_length_m,
+                       args.hangar_width_m)
+    summary = make_map(wind, flight, out, cell_m=args.cell_m, layer_m=args.layer_m,
+                       min_seconds=args.min_seconds, u_ref=args.reference_speed_m_s,
+                       score=args.score, ship=ship, wind_name=str(args.wind),
+                       flight_name=str(args.flight))
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(summary["headline"])
+        if args.score:
+            print_map_score(summary["score"])
+        print(f"wrote {out}/ (map.parquet, {', '.join(summary['figures'])}, index.html)")
+    return 0
+
+
+def print_map_score(score: dict, stream=None) -> None:
+    w = (stream or sys.stdout).write
+    w(f"map error = map - truth over {score['cells']} cells with >= "
+      f"{score['min_seconds']:g} s of data\n")
+    w(f"{'component':<12}{'along-track RMS':>17}{'field RMS':>11}{'field max':>11}\n")
+    for name in score["field"]:
+        a, f = score["along_track"][name], score["field"][name]
+        w(f"{name:<12}{a['rms']:>17.3f}{f['rms']:>11.3f}{f['max_abs']:>11.3f}\n")
+
+
+def register_map(sub) -> None:
+    p = sub.add_parser(
+        "map", help="airwake map in the ship frame from a wind estimate",
+        description="Grid a wind estimate (airwake wind estimate) over the helicopter's "
+        "positions: on a ship, the hub in the ship frame (RTK baseline rotated by the ship's "
+        "attitude) and the flow relative to the ship; elsewhere the site's NED frame. Writes "
+        "MAPDIR/map.parquet (per cell: centre, samples, seconds, mean flow and rotation with "
+        "their std, turbulence std and intensity), mean_flow.png, turbulence.png, "
+        "coverage.png, summary.json and index.html (docs/airwake-map.md).")
+    p.add_argument("wind", metavar="WIND.parquet", help="wind table (airwake wind estimate)")
+    p.add_argument("--flight", required=True, metavar="FLIGHT",
+                   help="the flight table the wind was estimated from")
+    p.add_argument("--out", required=True, metavar="MAPDIR", help="output directory (replaced)")
+    p.add_argument("--cell-m", type=float, default=0.5, help="cell size in x and y (0.5 m)")
+    p.add_argument("--layer-m", type=float, default=1.0, help="layer thickness in z (1 m)")
+    p.add_argument("--min-seconds", type=float, default=0.5,
+                   help="cells with less data are left out (0.5 s)")
+    p.add_argument("--reference-speed-m-s", type=float, default=None,
+                   help="U_ref of the turbulence intensity (default: the mean relative wind "
+                   "speed over the flight)")
+    p.add_argument("--deck-length-m", type=float, default=6.0, help="flight deck length (6)")
+    p.add_argument("--beam-m", type=float, default=7.3, help="deck width (7.3)")
+    p.add_argument("--hangar-length-m", type=float, default=8.0, help="hangar length (8)")
+    p.add_argument("--hangar-width-m", type=float, default=6.0, help="hangar width (6)")
+    p.add_argument("--score", action="store_true",
+                   help="simulated flights: compare with the truth wind along the track and "
+                   "with the simulator's wind field at the cell centres")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.set_defaults(func=_map_handle)

@@ -39,6 +39,7 @@ def _export(args: argparse.Namespace) -> int:
     overrides = {
         "ned_origin_lla": _floats(args.ned_origin, 3, "--ned-origin"),
         "base_antenna_height_above_deck_m": args.base_antenna_height_m,
+        "base_antenna_ship_xy_m": _floats(args.base_antenna_ship_m, 2, "--base-antenna-ship-m"),
         "rover_antenna_to_hub_frd_m": _floats(args.rover_antenna_to_hub_m, 3,
                                               "--rover-antenna-to-hub-m"),
         "tracker_height_above_ground_m": args.tracker_height_m,
@@ -103,6 +104,8 @@ def register(subparsers) -> None:
     p.add_argument("--out", required=True, metavar="FLIGHT.parquet|.csv")
     p.add_argument("--ned-origin", metavar="LAT,LON,H")
     p.add_argument("--base-antenna-height-m", type=float)
+    p.add_argument("--base-antenna-ship-m", metavar="X,Y",
+                   help="base antenna on the ship (x forward of the hangar step, y starboard)")
     p.add_argument("--rover-antenna-to-hub-m", metavar="X,Y,Z")
     p.add_argument("--tracker-height-m", type=float)
     p.add_argument("--json", action="store_true", help="print a JSON summary")

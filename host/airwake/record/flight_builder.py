@@ -26,7 +26,10 @@ Output (docs/flight-table.md): one row per rover INS sample (150 Hz), columns
 
   (+inf where there is no RTK baseline, or `tracker_height_above_ground_m - y_tracker`
   indoors without RTK when that height is configured);
-- ship (base INS): `ship_pos_n/e/d_m`, `ship_roll/pitch/yaw_rad`, `ship_speed_m_s`;
+- ship (base INS): `ship_pos_n/e/d_m`, `ship_roll/pitch/yaw_rad`, `ship_speed_m_s`,
+  `ship_vel_n/e/d_m_s`; with the RTK baseline and the base antenna's place on the ship
+  (`base_antenna_ship_xy_m`) the hub in the ship frame, `hub_ship_x/y/z_m` = R_ship^T
+  (baseline + R(att) r_antenna->hub) + (x_b, y_b, -h_b);
 - tracker (LOSA peaks triangulated): `tracker_pos_x/y/z_m`;
 - anemometer (marker): `anemo_u/v/w_m_s`, `anemo_temp_c`.
 
@@ -124,6 +127,8 @@ class FlightBuildConfig:
 
     ned_origin_lla: tuple[float, float, float] | None = None  # None: first rover INS fix, h 0
     base_antenna_height_above_deck_m: float = 0.0
+    # base antenna on the ship: x forward of the hangar step, y starboard (ship frame, m)
+    base_antenna_ship_xy_m: tuple[float, float] | None = None
     rover_antenna_to_hub_frd_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     tracker_height_above_ground_m: float | None = None  # indoors: height from the tracker
     rigging: PwmRigging = DEFAULT_RIGGING
@@ -135,6 +140,8 @@ class FlightBuildConfig:
         return {
             "ned_origin_lla": None if self.ned_origin_lla is None else list(self.ned_origin_lla),
             "base_antenna_height_above_deck_m": self.base_antenna_height_above_deck_m,
+            "base_antenna_ship_xy_m": None if self.base_antenna_ship_xy_m is None else list(
+                self.base_antenna_ship_xy_m),
             "rover_antenna_to_hub_frd_m": list(self.rover_antenna_to_hub_frd_m),
             "tracker_height_above_ground_m": self.tracker_height_above_ground_m,
             "rigging": self.rigging.to_dict(),
@@ -317,6 +324,7 @@ def build_flight_table(streams: Mapping[str, MessageTable],
 
     height = np.full(t.size, np.inf)
     height_source = "none"
+    hub_from_base = None
     bl = streams.get(RTK_BASELINE)
     if bl is not None and len(bl):
         tb_all, brow_all = _sorted_unique(bl)
@@ -338,6 +346,7 @@ def build_flight_table(streams: Mapping[str, MessageTable],
             h = cfg.base_antenna_height_above_deck_m - rel[:, 2] - lever[:, 2]
             height = np.where(rel_ok, h, np.inf)
             height_source = "rtk_baseline"
+            hub_from_base = rel + lever  # base antenna -> rotor hub, NED
         fix = hold_previous(tb_all, fix_all, t) if tb_all.size else np.zeros(t.size)
         fix = np.where(coverage(tb_all, t, gap[RTK_BASELINE]), fix, 0)
         cols["rtk_fix"] = fix.astype(float)
@@ -379,8 +388,21 @@ def build_flight_table(streams: Mapping[str, MessageTable],
                 "ship_pitch_rad": np.interp(t, tsh, s_ypr[:, 1]),
                 "ship_yaw_rad": wrap_pi(np.interp(t, tsh, np.unwrap(s_ypr[:, 0]))),
                 "ship_speed_m_s": np.interp(t, tsh, np.hypot(s_vel[:, 0], s_vel[:, 1])),
+                "ship_vel_n_m_s": np.interp(t, tsh, s_vel[:, 0]),
+                "ship_vel_e_m_s": np.interp(t, tsh, s_vel[:, 1]),
+                "ship_vel_d_m_s": np.interp(t, tsh, s_vel[:, 2]),
                 "ship_valid": coverage(tsh, t, gap[BASE_INS]).astype(float),
             })
+            if hub_from_base is not None and cfg.base_antenna_ship_xy_m is not None:
+                # the hub in the ship frame (x bow, y starboard, z down from the deck, origin
+                # at the hangar step): the baseline rotated by the ship's attitude, plus the
+                # base antenna's place on the ship
+                ship_dcm = euler_to_dcm(cols["ship_roll_rad"], cols["ship_pitch_rad"],
+                                        cols["ship_yaw_rad"])
+                hub = np.einsum("nji,nj->ni", ship_dcm, hub_from_base)
+                xb, yb = (float(v) for v in cfg.base_antenna_ship_xy_m)
+                cols.update({"hub_ship_x_m": hub[:, 0] + xb, "hub_ship_y_m": hub[:, 1] + yb,
+                             "hub_ship_z_m": hub[:, 2] - cfg.base_antenna_height_above_deck_m})
 
     an = streams.get(ANEMOMETER)
     if an is not None and len(an):
