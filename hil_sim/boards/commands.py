@@ -43,6 +43,20 @@ def register_run(sub) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=_run)
 
+    t = sub.add_parser(
+        "truth", help="add the truth world's truth_* columns to an export of a SIL recording",
+        description="Scoring only: put the truth world's truth_* columns (wind, states, "
+        "noise-free channels) of a SIL flight beside its exported flight table, matched on "
+        "the simulator's timeline, and the scenario's configuration and seed in the "
+        "metadata (what `airwake wind map --score` rebuilds the wind field from). The "
+        "analysis never reads these columns; --score options do.")
+    t.add_argument("recording", metavar="REC", help="recording of `airwake sim run`")
+    t.add_argument("--flight", required=True, metavar="FLIGHT",
+                   help="its export (airwake export REC --out FLIGHT)")
+    t.add_argument("--out", required=True, metavar="FLIGHT_TRUTH",
+                   help="flight table with the truth columns (.parquet or .csv)")
+    t.set_defaults(func=_truth)
+
 
 def _run(args: argparse.Namespace) -> int:
     from airwake.progress import Progress
@@ -118,3 +132,23 @@ def format_report(result) -> str:
         lines.append(f"  event: {json.dumps(e)}")
     return "\n".join(lines)
 
+
+
+def _truth(args: argparse.Namespace) -> int:
+    import os
+    from pathlib import Path
+
+    from airwake.record.flight_table import load_flight_table, write_flight_table
+
+    from hil_sim.boards.sil import add_truth
+
+    out = Path(args.out)
+    flight = load_flight_table(args.flight)
+    df, meta = add_truth(flight, Path(args.recording))
+    tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
+    write_flight_table(df, tmp, meta)
+    os.replace(tmp, out)
+    n = sum(c.startswith("truth_") for c in df.columns)
+    print(f"{out}: {len(df)} rows, {n} truth columns from {args.recording}/sil "
+          f"(simulator time = t_s + {meta['sim_time_offset_s']:.6f} s)")
+    return 0

@@ -26,7 +26,10 @@ What happens (docs/sil.md):
 5. `finish()` lets the daemon read everything, stops it with SIGINT (a clean, indexed
    recording), stops the boards, and writes `REC/sil/run.json`: the rig, the clock
    offset between host and simulator time, what every link injected, the fault events,
-   board boots, timing, CPU and the daemon's final link health.
+   board boots, timing, CPU and the daemon's final link health, and `REC/sil/truth.parquet`:
+   the truth world's own flight table (truth_* columns, scenario and seed in its
+   metadata) on the simulator's timeline, which `airwake sim truth` puts beside an export
+   of the recording for scoring (the analysis never reads it).
 """
 
 from __future__ import annotations
@@ -52,6 +55,7 @@ from hil_sim.boards.rig import SilRig, rig_for
 from hil_sim.boards.simclock import SimClock
 
 MODES = ("stepped", "wall")
+TRUTH_TABLE = "truth.parquet"  # REC/sil/: the truth world's table, for scoring only
 ORDER = ("marker", "losa", "rover", "base")  # marker first: its LEDs light the LOSA's step
 SIL_SEED_KEY = 0x5117  # spawn-key namespace of the SIL layer's random streams
 DAEMON_START_TIMEOUT_S = 60.0
@@ -609,6 +613,7 @@ class SilRun:
         sil_dir = self.out / "sil"
         sil_dir.mkdir(exist_ok=True)
         (sil_dir / "run.json").write_text(json.dumps(summary, indent=1, default=_json_default))
+        write_truth_table(self.world, sil_dir / TRUTH_TABLE)
         shutil.copy(self._tmp / "daemon.log", sil_dir / "daemon.log")
         if self.log_frames:
             self._write_frame_logs(sil_dir)
@@ -716,3 +721,53 @@ def _json_default(obj):
     if isinstance(obj, Path):
         return str(obj)
     return str(obj)
+
+
+def write_truth_table(world, path: Path) -> None:
+    """The truth world's flight table (sim-table path: truth_* columns, scenario metadata)
+    beside the recording, written via a temporary file."""
+    import os
+
+    from airwake.record.flight_table import write_flight_table
+
+    built = world.flight_table()
+    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
+    write_flight_table(built.df, tmp, built.metadata)
+    os.replace(tmp, path)
+
+
+def add_truth(flight, recording: Path):
+    """(df, metadata) of an exported flight table with the truth world's truth_* columns
+    at its times: the stepped daemon's host clock is host_offset_ns + simulator time and
+    the table's t_s counts from t0_monotonic_ns, so simulator time = t_s + (t0 -
+    host_offset) / 1e9. The metadata gains the scenario, its configuration and seed (what
+    the truth wind field is rebuilt from)."""
+    from airwake.record.flight_table import load_flight_table
+
+    rec = Path(recording)
+    run_path, truth_path = rec / "sil" / "run.json", rec / "sil" / TRUTH_TABLE
+    for p in (run_path, truth_path):
+        if not p.is_file():
+            raise SilError(f"{rec}: no {p.relative_to(rec)}: not a recording of `airwake "
+                           "sim run` (or one from before it wrote the truth)")
+    run = json.loads(run_path.read_text())
+    offset = (run.get("clock") or {}).get("host_offset_ns")
+    t0 = flight.metadata.get("t0_monotonic_ns")
+    if offset is None or t0 is None:
+        raise SilError(f"cannot put the flight on the simulator's timeline: host_offset_ns "
+                       f"{offset!r} in run.json, t0_monotonic_ns {t0!r} in the flight's "
+                       "metadata (export the recording with airwake export)")
+    truth = load_flight_table(truth_path, required=("t_s",))
+    df = flight.df.copy()
+    t_sim = df["t_s"].to_numpy(float) + (int(t0) - int(offset)) / 1e9
+    tt = truth.df["t_s"].to_numpy(float)
+    for c in truth.df.columns:
+        if c.startswith("truth_"):
+            df[c] = np.interp(t_sim, tt, truth.df[c].to_numpy(float))
+    meta = dict(flight.metadata)
+    for k in ("scenario", "seed", "scenario_config", "sim"):
+        if k in truth.metadata:
+            meta[k] = truth.metadata[k]
+    meta["truth_from"] = str(truth_path)
+    meta["sim_time_offset_s"] = (int(t0) - int(offset)) / 1e9
+    return df, meta

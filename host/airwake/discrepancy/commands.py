@@ -46,6 +46,9 @@ def register(subparsers) -> None:
                        "simulation over short windows (rates, attitude, velocity).")
     p.add_argument("flight", metavar="FLIGHT", help="flight table (.parquet or .csv)")
     _settings_args(p)
+    p.add_argument("--wind", metavar="WIND.parquet",
+                   help="a wind estimate of this flight (airwake wind estimate) given to the "
+                   "model as a known input: what remains is not the wind")
     p.add_argument("--windows", type=int, default=None, metavar="N",
                    help="free-simulation windows (default 12; 0 = none)")
     p.add_argument("--window-s", type=float, default=None, metavar="S",
@@ -159,13 +162,22 @@ def _compare(args) -> int:
     st = _settings(args)
     model = load_model(args.model)
     prog = _progress(args, "free simulation", st.free_sim_window_s * 150)
-    an = analyse(model, args.flight, st, free_sim=st.free_sim_windows > 0, progress=prog)
+    wind = None
+    if args.wind:
+        from airwake.discrepancy.compare import wind_on_flight
+        from airwake.discrepancy.data import load_flight
+
+        wind = wind_on_flight(args.wind, load_flight(args.flight, st))
+    an = analyse(model, args.flight, st, free_sim=st.free_sim_windows > 0, progress=prog,
+                 wind=wind)
     s = summary(an)
+    s["wind"] = str(args.wind) if args.wind else None
     if args.json:
         _dump(s)
         return 0
     print(f"{an.flight.name}: {s['duration_s']:.1f} s, {s['samples_analysed']} of "
-          f"{s['samples']} samples analysed; model {args.model} ({len(model.effects)} effects)")
+          f"{s['samples']} samples analysed; model {args.model} ({len(model.effects)} effects)"
+          + (f"; wind from {args.wind}" if args.wind else "; still air assumed"))
     print(f"one-step-ahead, {st.lowpass_hz:g} Hz analysis band "
           f"(noise floor: {s['noise_method']})")
     print(_table(s["channels"]))

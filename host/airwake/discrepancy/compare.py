@@ -30,13 +30,14 @@ FREE_SIM_VARIABLES = ("p_rad_s", "q_rad_s", "r_rad_s", "roll_rad", "pitch_rad",
                       "vel_u_m_s", "vel_v_m_s", "vel_w_m_s")
 
 
-def predict(model, flight: Flight, params=None, hidden=None, return_hidden=False):
-    """Predicted channels (T, 6) of `model` on `flight` (or (K, T, 6) for (K, P) params).
+def predict(model, flight: Flight, params=None, hidden=None, return_hidden=False, wind=None):
+    """Predicted channels (T, 6) of `model` on `flight` (or (K, T, 6) for (K, P) params),
+    in still air or with `wind` (T, 6) the eq 5.3 wind per sample as an input.
     Model failures become DiscrepancyError (a plugin that raises, non-finite output)."""
     from airwake.heli.measurement import predict_measurements
 
     try:
-        out = predict_measurements(model, flight.df, params=params, hidden=hidden,
+        out = predict_measurements(model, flight.df, wind=wind, params=params, hidden=hidden,
                                    return_hidden=return_hidden)
     except DiscrepancyError:
         raise
@@ -69,6 +70,7 @@ class Analysis:
     noise: dict  # signal.noise_floor
     hidden: object = None
     free_sim: dict = field(default_factory=dict)
+    wind: np.ndarray | None = None  # (T, 6) known wind given as the model's input
 
     def band(self, x: np.ndarray) -> np.ndarray:
         return signal.band(x, self.flight.runs, self.settings, self.flight.rate_hz)
@@ -113,12 +115,19 @@ def channel_metrics(res_band, meas_band, res_raw, mask, noise) -> dict:
 
 
 def analyse(model, flight, settings: AnalysisSettings | None = None, *,
-            free_sim: bool = False, progress=None) -> Analysis:
-    """Evaluate `model` on `flight` (path / table / Flight): residuals, band, mask, noise."""
+            free_sim: bool = False, progress=None, wind=None) -> Analysis:
+    """Evaluate `model` on `flight` (path / table / Flight): residuals, band, mask, noise.
+    `wind`: None (still air) or (T, 6) the eq 5.3 wind per sample (e.g. a wind estimate,
+    `wind_on_flight`) given to the model as a known input."""
     settings = settings or AnalysisSettings()
     flight = load_flight(flight, settings)
     check_model(model)
-    zhat, hidden = predict(model, flight, return_hidden=True)
+    if wind is not None:
+        wind = np.asarray(wind, dtype=float)
+        if wind.shape != (len(flight), 6) or not np.all(np.isfinite(wind)):
+            raise DiscrepancyError(f"wind for {flight.name}: expected {len(flight)} finite "
+                                   f"rows of 6 components, got shape {wind.shape}")
+    zhat, hidden = predict(model, flight, return_hidden=True, wind=wind)
     res = flight.z - zhat
     runs, fs = flight.runs, flight.rate_hz
     mask = signal.analysis_mask(flight.t, runs, settings)
@@ -127,7 +136,7 @@ def analyse(model, flight, settings: AnalysisSettings | None = None, *,
                                f"out start-up transients and gaps")
     noise = signal.noise_floor(res, runs, settings, fs)
     an = Analysis(flight, model, settings, zhat, res, signal.band(res, runs, settings, fs),
-                  signal.band(flight.z, runs, settings, fs), mask, noise, hidden)
+                  signal.band(flight.z, runs, settings, fs), mask, noise, hidden, wind=wind)
     if free_sim and settings.free_sim_windows > 0:
         an.free_sim = free_simulation(an, progress=progress)
     return an
@@ -197,7 +206,7 @@ def free_simulation(an: Analysis, model=None, progress=None) -> dict:
     if hid and an.hidden is not None and model is an.model:
         x_all[:, hid] = an.hidden.h
     elif hid:
-        _, h = predict(model, fl, return_hidden=True)
+        _, h = predict(model, fl, return_hidden=True, wind=an.wind)
         x_all[:, hid] = h.h
     from airwake.heli.model import INPUT_NAMES
 
@@ -215,7 +224,8 @@ def free_simulation(an: Analysis, model=None, progress=None) -> dict:
         for j in range(sub):
             a = (j + 0.5) / sub  # inputs at the sub-step's midpoint (linear between samples)
             u = (1 - a) * u_all[i0] + a * u_all[i1]
-            x = rk4_step(model, x, u, float(dt[0]), None, env)
+            w = None if an.wind is None else an.wind[i0]
+            x = rk4_step(model, x, u, float(dt[0]), w, env)
         sims[:, k + 1] = x
         if not np.all(np.isfinite(x)):
             x = np.nan_to_num(x)
@@ -269,3 +279,27 @@ def overall_score(an: Analysis) -> dict:
     m = an.metrics()
     ratios = np.array([m[c]["rms_over_noise"] for c in MEAS_CHANNELS])
     return {"rms_over_noise": float(np.sqrt(np.mean(ratios**2)))}
+
+
+def wind_on_flight(wind_path, flight: Flight) -> np.ndarray:
+    """A wind table (`airwake wind estimate`) at the flight's samples, (T, 6): checked to
+    be from this flight and to cover it, interpolated by time."""
+    from airwake.heli.model import WIND_NAMES
+    from airwake.record.flight_table import FlightTableError, load_flight_table
+
+    try:
+        wt = load_flight_table(wind_path, required=("t_s", *WIND_NAMES))
+    except FlightTableError as exc:
+        raise DiscrepancyError(str(exc)) from None
+    fp = wt.metadata.get("flight_fingerprint")
+    here = {"rows": len(flight), "t0_s": round(float(flight.t[0]), 6),
+            "t1_s": round(float(flight.t[-1]), 6)}
+    if fp and fp != here:
+        raise DiscrepancyError(f"{wind_path} was estimated from another flight ({fp}), not "
+                               f"{flight.name} ({here})")
+    t = wt.df["t_s"].to_numpy(float)
+    if t[0] > flight.t[0] + 0.5 or t[-1] < flight.t[-1] - 0.5:
+        raise DiscrepancyError(f"{wind_path} covers t = {t[0]:.2f} ... {t[-1]:.2f} s, not the "
+                               f"flight's {flight.t[0]:.2f} ... {flight.t[-1]:.2f} s")
+    return np.column_stack([np.interp(flight.t, t, wt.df[n].to_numpy(float))
+                            for n in WIND_NAMES])

@@ -78,7 +78,7 @@ def check_settings(cutoff_hz: float, rate_hz: float, sample_rate_hz: float,
             f"--rate-hz {rate_hz:g}: above the flight's own rate ({sample_rate_hz:.4g} Hz)")
     factor = max(int(round(sample_rate_hz / rate_hz)), 1)
     actual = sample_rate_hz / factor
-    if cutoff_hz > actual / 2.5 * (1.0 + 1e-9):
+    if cutoff_hz > actual / 2.5 * 1.01:  # 1 %: a recorder's clock is not exactly 150 Hz
         raise WindEstimationError(
             f"--cutoff-hz {cutoff_hz:g}: must be at most rate / 2.5 = {actual / 2.5:.3g} Hz "
             f"(the estimator samples at {actual:.4g} Hz; a higher cutoff aliases)")
