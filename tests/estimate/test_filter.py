@@ -1,5 +1,6 @@
-"""The wind particle filter on model-generated flights: it finds the wind, it says how
-sure it is, and it never produces NaN.
+"""The reference's wind particle filter (`--method apf`) on model-generated flights, fed
+the raw flight as the reference fed it (cutoff_hz=0): it finds the wind, it says how sure
+it is, and it never produces NaN.
 
 Tolerances (after a 3 s burn-in, 1000 particles): mean flow RMS error <= 0.4 m/s per
 component; vorticity, weakly observable on a 0.67 m rotor, only loosely: RMS error <=
@@ -16,6 +17,7 @@ from airwake.heli import WIND_NAMES, load_spec
 from airwake.record.flight_table import TRUTH_WIND
 
 V, W = WIND_NAMES[:3], WIND_NAMES[3:]
+APF = {"method": "apf", "cutoff_hz": 0}
 
 
 def _check(score, truth_scale):
@@ -33,7 +35,7 @@ def _check(score, truth_scale):
 @pytest.mark.parametrize("resampler", ["systematic", "roulette"])
 def test_filter_recovers_a_constant_wind(constant_wind_flight, resampler):
     est = estimate_wind(constant_wind_flight, "table52", n_particles=1000, seed=3,
-                        resampler=resampler)
+                        resampler=resampler, **APF)
     _check(score_wind(est.df, constant_wind_flight.df, burn_in_s=3.0), 2.0)
     if resampler == "roulette":  # the reference's scheme resamples on every sample
         assert est.df["resampled"].all()
@@ -42,7 +44,7 @@ def test_filter_recovers_a_constant_wind(constant_wind_flight, resampler):
 
 
 def test_filter_tracks_a_slowly_varying_wind(varying_wind_flight):
-    est = estimate_wind(varying_wind_flight, "table52", n_particles=1000, seed=4)
+    est = estimate_wind(varying_wind_flight, "table52", n_particles=1000, seed=4, **APF)
     df = varying_wind_flight.df
     score = score_wind(est.df, df, burn_in_s=3.0)
     _check(score, float(df["truth_wind_vx_m_s"].abs().mean()))
@@ -54,7 +56,7 @@ def test_filter_tracks_a_slowly_varying_wind(varying_wind_flight):
 
 
 def test_output_columns_and_posterior_std_stay_positive(tiny_wind_flight):
-    est = estimate_wind(tiny_wind_flight, "table52", n_particles=200, seed=0)
+    est = estimate_wind(tiny_wind_flight, "table52", n_particles=200, seed=0, **APF)
     df = est.df
     for name in WIND_NAMES:
         assert name in df and f"{name}_std" in df

@@ -9,7 +9,7 @@ from airwake.cli import main
 from airwake.heli import WIND_NAMES
 from airwake.record.flight_table import TRUTH_WIND, load_flight_table, write_flight_table
 
-FAST = ["--particles", "100"]
+FAST = ["--method", "apf", "--cutoff-hz", "0", "--particles", "100"]
 
 
 def test_estimate_writes_parquet_with_metadata_and_scores(tiny_wind_file, tmp_path, capsys):
@@ -35,7 +35,7 @@ def test_text_output_prints_the_table_5_3_comparison(tiny_wind_file, tmp_path, c
     assert main(["wind", "estimate", str(tiny_wind_file), "--out", str(out), "--score",
                  "--burn-in-s", "1", "--resampler", "roulette", *FAST]) == 0
     text = capsys.readouterr().out
-    assert "Table 5.3 std" in text and "wind_wy_rad_s" in text and f"wrote {out}" in text
+    assert "5.3 std" in text and "wind_wy_rad_s" in text and f"wrote {out}" in text
 
 
 def test_score_without_truth_columns_fails_before_the_run(tiny_wind_file, tmp_path, capsys):

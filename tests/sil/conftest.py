@@ -22,9 +22,29 @@ CLEAN_S = 12.0
 FAULT_S = 12.0
 CRASH_KILL_S = 4.0
 
-FAULT_SCENARIO = """
+# The SIL tests' flight: still_air_calibration's helicopter, site and sensors with a
+# hover and the lateral chirp (the marker stays in the tracker's view; the calibration
+# flight's own script starts with 9 m legs across the hall).
+CLEAN_SCENARIO = """
 extends = "still_air_calibration"
-description = "SIL fault test: impaired links, an unplug, a stall, a reset"
+description = "SIL test flight: hover, then the lateral chirp"
+
+[[pilot.segments]]
+type = "hover"
+duration_s = 4.0
+
+[[pilot.segments]]
+type = "chirp"
+channel = "lat"
+amplitude_deg = 0.7
+f0_hz = 0.3
+f1_hz = 4.0
+duration_s = 20.0
+"""
+
+FAULT_SCENARIO = CLEAN_SCENARIO.replace("SIL test flight: hover, then the lateral chirp",
+                                        "SIL fault test: impaired links, an unplug, a stall, "
+                                        "a reset") + """
 
 [faults.losa]
 byte_loss_probability = 0.002
@@ -58,8 +78,9 @@ def clean_flight(tmp_path_factory):
     def make(d):
         from hil_sim.world.scenario import load_scenario
 
-        run_flight(d, load_scenario("still_air_calibration"), duration_s=CLEAN_S,
-                   log_frames=True)
+        path = d / "clean.toml"
+        path.write_text(CLEAN_SCENARIO)
+        run_flight(d, load_scenario(path), duration_s=CLEAN_S, log_frames=True)
 
     return shared_flight(tmp_path_factory, "clean", make)
 
@@ -94,7 +115,9 @@ def crash_flight(tmp_path_factory):
         from hil_sim.boards.rig import rig_for
         from hil_sim.world.scenario import load_scenario
 
-        sc = load_scenario("still_air_calibration")
+        path = d / "clean.toml"
+        path.write_text(CLEAN_SCENARIO)
+        sc = load_scenario(path)
         run_flight(d, sc, duration_s=CRASH_KILL_S + 2.0, rig=rig_for(sc, ("rover", "base")),
                    export=False, during=kill, keep_delivered=True, mode="wall")
 

@@ -17,6 +17,13 @@ def print_score(score: dict, stream=None) -> None:
         w(f"{name:<15}{c['error_mean']:>8.3f}{c['error_std']:>8.3f}{c['correlation']:>7.2f}"
           f"{c['truth_std']:>10.3f}{c['posterior_std_mean']:>10.3f}{c['coverage_90']:>7.2f}"
           f"{c['table_5_3_mean']:>10.4f}{c['table_5_3_std']:>9.4f}\n")
+    if "crlb" in score:
+        w(f"\nCramer-Rao bound (posterior, at the {score['crlb']['at']}; channel noise "
+          + " ".join(f"{v:.3g}" for v in score["crlb"]["noise_std"]) + ")\n")
+        w(f"{'component':<15}{'error RMS':>10}{'bound':>8}{'ratio':>7}\n")
+        for name, c in score["components"].items():
+            w(f"{name:<15}{c['error_rms']:>10.3f}{c['crlb_std']:>8.3f}"
+              f"{c['error_over_crlb']:>7.2f}\n")
 
 
 def _handle(args: argparse.Namespace) -> int:
@@ -52,6 +59,10 @@ def _handle(args: argparse.Namespace) -> int:
         report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"])
     if args.score:
         report["score"] = score_wind(est.df, ft.df, args.burn_in_s)
+        if args.method == "smoother":
+            from airwake.estimate.wind import score_bound, wind_bound
+
+            score_bound(report["score"], wind_bound(est, ft.df), est.df)
     if args.json:
         print(json.dumps(report, indent=2))
     else:
@@ -108,7 +119,7 @@ def register(subparsers) -> None:
     p.add_argument("--rate-hz", type=float, default=None,
                    help="estimator sample rate after the low-pass (15 Hz smoother, 30 Hz apf)")
     p.add_argument("--em-passes", type=int, default=None,
-                   help="smoother passes (5: 2 relinearising, each re-learning the prior)")
+                   help="smoother passes (3: 2 relinearising; the prior re-learnt after each)")
     p.add_argument("--airspeed-m-s", type=float, default=None,
                    help="typical airspeed for the prior's correlation times (3 m/s)")
     p.add_argument("--ins-velocity-std", type=float, default=0.05,

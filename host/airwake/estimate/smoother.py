@@ -68,7 +68,7 @@ from airwake.calibrate.hidden import (
 from airwake.estimate.prefilter import Prefiltered
 from airwake.estimate.wind_prior import TAU_BOUNDS_S, WindPrior
 
-ITERATIONS = 5
+ITERATIONS = 3
 RELINEARISE = 2
 LEARN = ("sigma", "tau", "mean_walk", "noise")
 LEARN_DEFAULT = ("sigma", "noise")
@@ -157,7 +157,7 @@ class WindSmoother:
 
     def __init__(self, model, pre: Prefiltered, prior: WindPrior, noise_std=None,
                  iterations: int = ITERATIONS, relinearise: int = RELINEARISE,
-                 learn=LEARN_DEFAULT) -> None:
+                 learn=LEARN_DEFAULT, source_data=None) -> None:
         if iterations < 1:
             raise ValueError(f"iterations = {iterations!r}: must be >= 1")
         unknown = set(learn) - set(LEARN)
@@ -165,6 +165,7 @@ class WindSmoother:
             raise ValueError(f"learn: unknown item(s) {sorted(unknown)}; known {list(LEARN)}")
         self.model = model
         self.pre = pre
+        self.source_data = source_data  # the full-rate FlightData (for the bound's noise)
         self.prior = prior.copy()
         self.iterations = int(iterations)
         self.relinearise = max(1, min(int(relinearise), self.iterations))
@@ -172,7 +173,9 @@ class WindSmoother:
         data = pre.data
         self.hid = hidden_indices(model)
         self.m = self.hid.size
-        self.n_state = self.m + 12
+        m = self.m
+        self.mu, self.xi = slice(m, m + 6), slice(m + 6, m + 12)
+        self.n_state = m + 12
         if noise_std is None:
             noise_std = np.maximum(0.05 * np.std(data.z, axis=0), 0.01)
         self.noise_std = np.asarray(noise_std, dtype=float).copy()
@@ -212,25 +215,43 @@ class WindSmoother:
     def _transition_lin(self, k: int, point: np.ndarray):
         d = self.pre
         env = {n: v[k] for n, v in d.mid_env.items()}
-        w = point[self.m:self.m + 6] + point[self.m + 6:]
+        w = point[self.mu] + point[self.xi]
         f, _, jf, _ = self._jacobian_rows(d.mid_x[k], d.mid_u[k], env, point[:self.m], w)
         return f, jf
 
     def _measurement_lin(self, k: int, point: np.ndarray):
         d = self.pre.data
         env = {n: v[k] for n, v in d.env.items()}
-        w = point[self.m:self.m + 6] + point[self.m + 6:]
+        w = point[self.mu] + point[self.xi]
         _, z, _, jz = self._jacobian_rows(d.x[k], d.u[k], env, point[:self.m], w)
         return z, jz
 
     # -- building blocks ----------------------------------------------------------------
-    def _initial(self, k0: int, prior: WindPrior):
-        """Mean and covariance at a run's first sample: rotor states quasi-steady at zero
-        wind, their covariance through the quasi-steady sensitivity -J_h^-1 J_w."""
+    def _h_matrix(self, jz: np.ndarray) -> np.ndarray:
+        """(6, N) measurement Jacobian: dz/dh, and dz/dw for mu and xi alike."""
+        m = self.m
+        h = np.zeros((6, self.n_state))
+        h[:, :m] = jz[:, :m]
+        h[:, self.mu] = jz[:, m:]
+        h[:, self.xi] = jz[:, m:]
+        return h
+
+    def _wind_rows(self) -> np.ndarray:
+        """(6, N): w = mu + xi."""
+        c = np.zeros((6, self.n_state))
+        c[:, self.mu] = np.eye(6)
+        c[:, self.xi] = np.eye(6)
+        return c
+
+    def _initial(self, k0: int, prior: WindPrior, wind0=None):
+        """Mean and covariance at a run's first sample: rotor states quasi-steady at the
+        wind `wind0` (zero), their covariance through the quasi-steady sensitivity
+        -J_h^-1 J_w."""
         m, n = self.m, self.n_state
         d = self.pre.data
+        w0 = np.zeros(6) if wind0 is None else np.asarray(wind0, float)
         x = np.repeat(d.x[k0][None], 1, 0)
-        rows = RowBatch(x, d.u[k0:k0 + 1], np.zeros((1, 6)),
+        rows = RowBatch(x, d.u[k0:k0 + 1], w0[None],
                         {name: v[k0:k0 + 1] for name, v in d.env.items()})
         with np.errstate(all="ignore"):
             h = self.prop.quasi_steady(self.prop.h_ref[0][None, None], rows, None)[0, 0]
@@ -238,8 +259,9 @@ class WindSmoother:
             h = self.prop.h_ref[0].copy()
         s = np.zeros(n)
         s[:m] = h
+        s[m:m + 6] = w0
         env = {name: v[k0] for name, v in d.env.items()}
-        _, _, jf, _ = self._jacobian_rows(d.x[k0], d.u[k0], env, h, np.zeros(6))
+        _, _, jf, _ = self._jacobian_rows(d.x[k0], d.u[k0], env, h, w0)
         try:
             sens = -np.linalg.solve(jf[:, :m], jf[:, m:])
         except np.linalg.LinAlgError:
@@ -247,7 +269,7 @@ class WindSmoother:
         t = np.zeros((n, 12))
         t[:m, :6] = sens
         t[:m, 6:] = sens
-        t[m:, :] = np.eye(12)
+        t[m:m + 12, :] = np.eye(12)
         p = t @ prior.initial_covariance() @ t.T
         p[:m, :m] += np.eye(m) * 1e-12
         return s, 0.5 * (p + p.T)
@@ -257,15 +279,14 @@ class WindSmoother:
         m, n = self.m, self.n_state
         a = np.zeros((n, n))
         a[:m, :m] = jt[:, :m]
-        a[:m, m:m + 6] = jt[:, m:]
-        a[:m, m + 6:] = jt[:, m:]
-        a[m:, m:] = prior.drift_matrix()
+        a[:m, self.mu] = jt[:, m:]
+        a[:m, self.xi] = jt[:, m:]
+        a[m:m + 12, m:m + 12] = prior.drift_matrix()
         ds = s - tp
-        dw = ds[m:m + 6] + ds[m + 6:]
-        drift = np.empty(n)
+        dw = ds[self.mu] + ds[self.xi]
+        drift = np.zeros(n)
         drift[:m] = f0 + jt[:, :m] @ ds[:m] + jt[:, m:] @ dw
-        drift[m:m + 6] = 0.0
-        drift[m + 6:] = -s[m + 6:] / prior.tau_s
+        drift[self.xi] = -s[self.xi] / prior.tau_s
         return a, drift
 
     def _discretise(self, a, drift, qc, dt):
@@ -330,10 +351,7 @@ class WindSmoother:
                 lin.mp[j] = s
                 lin.z0[j], lin.jz[j] = self._measurement_lin(k, s)
             jz = lin.jz[j]
-            h_mat = np.empty((6, n_s))
-            h_mat[:, :m] = jz[:, :m]
-            h_mat[:, m:m + 6] = jz[:, m:]
-            h_mat[:, m + 6:] = jz[:, m:]
+            h_mat = self._h_matrix(jz)
             innov = d.z[k] - (lin.z0[j] + h_mat @ (s - lin.mp[j]))
             ph = p @ h_mat.T
             s_cov = h_mat @ ph + r
@@ -385,8 +403,7 @@ class WindSmoother:
         res2 = np.zeros(6)
         count = 0
         lags = np.zeros((CORRELATION_LAGS + 1, 6))
-        xi = slice(m + 6, m + 12)
-        mu = slice(m, m + 6)
+        xi, mu = self.xi, self.mu
         for run, ps, lin in passes:
             ms, pss, cs = ps.ms, ps.ps, ps.cs
             n = ms.shape[0]
@@ -402,8 +419,7 @@ class WindSmoother:
                 dts.append(np.diff(d.t[run]))
             e_run = np.empty((n, 6))
             for j in range(n):
-                jz = lin.jz[j]
-                h_mat = np.concatenate([jz[:, :m], jz[:, m:], jz[:, m:]], axis=1)
+                h_mat = self._h_matrix(lin.jz[j])
                 zhat = lin.z0[j] + h_mat @ (ms[j] - lin.mp[j])
                 e = d.z[run.start + j] - zhat
                 e_run[j] = e
@@ -482,19 +498,61 @@ class WindSmoother:
             lin.z0[j], lin.jz[j] = self._measurement_lin(k, old.ms[j])
         return lin
 
+    # -- the Cramer-Rao bound ------------------------------------------------------
+    def bound(self, wind: np.ndarray, prior: WindPrior, noise_std) -> np.ndarray:
+        """(n, 6) posterior Cramer-Rao lower bound (std) of each wind component at every
+        kept sample, for the wind trajectory `wind` (n, 6) (the truth, or an estimate),
+        the prior and the channel noise `noise_std` (6,).
+
+        Tichavsky, Muravchik & Nehorai (1998): for a Gauss-Markov state observed with
+        Gaussian noise, the Bayesian information of the state obeys the Kalman
+        covariance recursion with the Jacobians taken at the true trajectory; for the
+        smoothed (whole-flight) estimate the bound is the RTS covariance. The rotor states
+        along the truth are integrated with the same exponential step as the filter, the
+        wind held at `wind`. Only the model's sensitivities, the noise and the prior
+        enter: no measurement."""
+        m, n_s = self.m, self.n_state
+        d = self.pre.data
+        wind = np.asarray(wind, dtype=float)
+        r_diag = np.asarray(noise_std, float) ** 2
+        out = np.full((d.t.size, 6), np.nan)
+        c = self._wind_rows()
+        with single_blas_thread():
+            for run in d.runs:
+                idx = np.arange(run.start, run.stop)
+                n = idx.size
+                lin = _Lin(np.zeros((n, n_s)), np.zeros((n, m)), np.zeros((n, m, m + 6)),
+                           np.zeros((n, n_s)), np.zeros((n, 6)), np.zeros((n, 6, m + 6)))
+                point, _ = self._initial(idx[0], prior, wind[idx[0]])
+                for j, k in enumerate(idx):
+                    if j > 0:
+                        lin.tp[j] = point
+                        lin.f0[j], lin.jt[j] = self._transition_lin(k, point)
+                        a, drift = self._system(lin.f0[j], lin.jt[j], point, point, prior)
+                        _, _, step = self._discretise(a, drift, np.zeros(n_s),
+                                                      d.t[k] - d.t[k - 1])
+                        point = point.copy()
+                        point[:m] += step[:m]
+                        point[self.mu] = wind[k]
+                        point[self.xi] = 0.0
+                    lin.mp[j] = point
+                    lin.z0[j], lin.jz[j] = self._measurement_lin(k, point)
+                ps, _ = self._forward(run, prior, r_diag, lin, online=False)
+                self._backward(ps)
+                out[run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
+        return out
+
     def _result(self, passes, prior, noise_std, history, seconds) -> SmootherResult:
         m = self.m
         n = self.pre.data.t.size
         out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs", "mu")}
-        c = np.zeros((6, self.n_state))
-        c[:, m:m + 6] = np.eye(6)
-        c[:, m + 6:] = np.eye(6)
+        c = self._wind_rows()
         for run, ps, _ in passes:
             out["mean"][run] = ps.ms @ c.T
             out["std"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
             out["fm"][run] = ps.mf @ c.T
             out["fs"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.pf, c), 0))
-            out["mu"][run] = ps.ms[:, m:m + 6]
+            out["mu"][run] = ps.ms[:, self.mu]
         return SmootherResult(self.pre.data.t.copy(), out["mean"], out["std"], out["fm"],
                               out["fs"], out["mu"], prior, noise_std, history, seconds,
                               self.evaluations)

@@ -42,6 +42,8 @@ class WindEstimate:
     df: object  # pandas DataFrame (see module docstring)
     metadata: dict = field(default_factory=dict)
     seconds: float = 0.0
+    smoother: object = None  # the WindSmoother (method "smoother"): for the bound
+    result: object = None  # its SmootherResult
 
 
 METHODS = ("smoother", "apf")
@@ -94,8 +96,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         "ins_velocity_std_m_s": float(ins_velocity_std),
         "flight_fingerprint": flight_fingerprint(ft.df),
     }
+    smoother = result = None
     if method == "smoother":
-        df, extra, seconds = _run_smoother(
+        df, extra, seconds, smoother, result = _run_smoother(
             heli, data, 6.0 if cutoff_hz is None else cutoff_hz,
             15.0 if rate_hz is None else rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
             progress)
@@ -109,7 +112,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     span = float(df["t_s"].iloc[-1] - df["t_s"].iloc[0]) if len(df) > 1 else 0.0
     meta["seconds"] = seconds
     meta["realtime_factor"] = span / seconds if seconds > 0 else 0.0
-    return WindEstimate(df, meta, seconds)
+    return WindEstimate(df, meta, seconds, smoother, result)
 
 
 def _frame(t, mean, std, ins_velocity_std, extra_cols=None):
@@ -146,7 +149,7 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
                                    else airspeed_m_s)
     passes = ITERATIONS if em_passes is None else int(em_passes)
     try:
-        sm = WindSmoother(heli, pre, prior, iterations=passes)
+        sm = WindSmoother(heli, pre, prior, iterations=passes, source_data=data)
     except ValueError as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
@@ -164,7 +167,7 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
         "history": res.history,
         "model_rows_evaluated": int(res.evaluations),
     }
-    return df, extra, res.seconds
+    return df, extra, res.seconds, sm, res
 
 
 def _run_apf(heli, data, cutoff_hz, rate_hz, ins_velocity_std, n_particles, sigma, resampler,
@@ -302,3 +305,52 @@ def score_wind(wind_df, flight_df, burn_in_s: float = 2.0) -> dict:
             "table_5_3_std": ref_std,
         }
     return out
+
+
+def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
+    """The posterior Cramer-Rao bound (`WindSmoother.bound`) of the smoother's flight: at
+    the truth wind with the channels' true noise after the front end (RMS of measured -
+    truth_* channels, filtered and decimated like the estimator's input) when the flight
+    has them and `use_truth`, else at the estimate with the learned noise. The INS
+    velocity error is added to the mean-flow components, as in the posterior.
+    Returns {"std": (n, 6), "noise_std": (6,), "at": "truth"|"estimate"}."""
+    import dataclasses
+
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.estimate.prefilter import prefilter
+    from airwake.heli.context import MEAS_CHANNELS
+
+    sm, res = est.smoother, est.result
+    if sm is None:
+        raise WindEstimationError("the Cramer-Rao bound is computed for --method smoother")
+    pre = sm.pre
+    truth_ch = [f"truth_{c}" for c in MEAS_CHANNELS]
+    have = use_truth and all(c in flight_df.columns for c in (*truth_ch, *TRUTH_WIND))
+    if have:
+        data = sm.source_data
+        err = data.z - np.column_stack([np.asarray(flight_df[c], float) for c in truth_ch])
+        noisy = prefilter(dataclasses.replace(data, z=err), sm.model, pre.cutoff_hz,
+                          pre.rate_hz)
+        noise = np.std(noisy.data.z, axis=0)
+        wind = truth_at(est.df, flight_df)
+    else:
+        noise = res.noise_std
+        wind = res.mean
+    std = sm.bound(wind, res.prior, np.maximum(noise, 1e-6))
+    ins = float(est.metadata.get("ins_velocity_std_m_s", 0.0))
+    std[:, :3] = np.sqrt(std[:, :3] ** 2 + ins**2)
+    return {"std": std, "noise_std": noise, "at": "truth" if have else "estimate"}
+
+
+def score_bound(score: dict, bound: dict, wind_df) -> dict:
+    """Adds to each component of a score: crlb_std (RMS of the bound over the scored
+    samples) and error_over_crlb (error RMS / crlb_std)."""
+    t = np.asarray(wind_df["t_s"], float)
+    keep = t >= t[0] + score["burn_in_s"]
+    for j, name in enumerate(WIND_NAMES):
+        b = bound["std"][keep, j]
+        c = score["components"][name]
+        c["crlb_std"] = float(np.sqrt(np.mean(b * b)))
+        c["error_over_crlb"] = c["error_rms"] / c["crlb_std"] if c["crlb_std"] > 0 else None
+    score["crlb"] = {"at": bound["at"], "noise_std": [float(v) for v in bound["noise_std"]]}
+    return score

@@ -1,0 +1,173 @@
+"""`airwake bench` section "estimate": the wind estimators on a SIL ship flight.
+
+The flight is what a user gets: the truth world's `ship_airwake_b15` (seed 101, one no
+test uses) through the native rover and base firmware and the real daemon (`airwake sim
+run`, stepped), exported, with the truth world's columns put beside it for scoring; the
+model is the documented calibration (`airwake calibrate` of `still_air_calibration` from
+Table 5.2, 24 windows). Both are made once and kept in build/bench-cache/wind-<key>
+(delete it to rebuild; the key covers the scenario files and BENCH_VERSION).
+
+The estimators run in a child process pinned to one thread (OMP/OpenBLAS/MKL/numba = 1),
+each after a warm-up that loads the compiled model kernels:
+
+- `wind_estimator_realtime_factor`: the default estimator (smoother), flight seconds per
+  wall second; `wind_error_std_*`, `wind_error_mean_*`, `wind_correlation_*`,
+  `wind_coverage90_*` against the truth after 2 s; `wind_crlb_std_*` the posterior
+  Cramer-Rao bound at the truth (the channels' true noise after the front end, the
+  learned prior, the INS velocity error) and `wind_error_over_crlb_*` the error RMS over
+  it; `table53_std_*` the reference's real-flight error std beside them.
+- `apf_realtime_factor`: the reference's particle filter (eq 5.17, roulette wheel every
+  sample, 2000 particles) on the same flight, on the front end at 30 Hz;
+  `apf_realtime_factor_cpu` per CPU second; `apf_peak_rss_mb` the child's peak memory
+  during the run (VmHWM after a reset); `apf_error_std_*`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+SECTION = "estimate"
+BENCH_VERSION = 1
+SCENARIO = "ship_airwake_b15"
+SEED = 101
+REPO = Path(__file__).resolve().parents[1]
+CACHE = REPO / "build" / "bench-cache"
+
+
+def _key(duration: float) -> str:
+    from hil_sim.world.scenario import find_scenario
+
+    h = hashlib.sha1(f"{BENCH_VERSION} {SCENARIO} {SEED} {duration}".encode())
+    for name in ("still_air_calibration", SCENARIO):
+        h.update(find_scenario(name).read_bytes())
+    return h.hexdigest()[:12]
+
+
+def _cli(*args: str) -> None:
+    done = subprocess.run([sys.executable, "-m", "airwake.cli", *args], cwd=REPO,
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"airwake {' '.join(args[:2])} failed: {done.stderr[-800:]}")
+
+
+def prepare(quick: bool) -> tuple[Path, Path, float]:
+    """(flight with truth, calibrated spec, seconds spent making them: 0 when cached)."""
+    import time
+
+    duration = 20.0 if quick else 60.0
+    d = CACHE / f"wind-{_key(duration)}"
+    flight, spec = d / "flight_with_truth.parquet", d / "baseline.toml"
+    if flight.is_file() and spec.is_file():
+        return flight, spec, 0.0
+    t0 = time.perf_counter()
+    d.mkdir(parents=True, exist_ok=True)
+    _cli("sim", "table", "--scenario", "still_air_calibration", "--quiet",
+         "--out", str(d / "calibration.parquet"))
+    _cli("calibrate", str(d / "calibration.parquet"), "--model", "table52", "--max-windows",
+         "24", "--out", str(spec))
+    rec = d / "recording"
+    if rec.exists():
+        import shutil
+
+        shutil.rmtree(rec)
+    _cli("sim", "run", "--scenario", SCENARIO, "--seed", str(SEED), "--duration",
+         f"{duration:g}", "--stepped", "--quiet", "--out", str(rec))
+    _cli("export", str(rec), "--out", str(d / "flight.parquet"))
+    _cli("sim", "truth", str(rec), "--flight", str(d / "flight.parquet"), "--out", str(flight))
+    return flight, spec, time.perf_counter() - t0
+
+
+def _vm_hwm_mb() -> float | None:
+    try:
+        for line in open("/proc/self/status"):
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return None
+
+
+def _reset_hwm() -> bool:
+    try:
+        with open("/proc/self/clear_refs", "w") as fh:
+            fh.write("5")
+        return True
+    except OSError:
+        return False
+
+
+def _child(flight: str, spec: str, particles: int) -> None:
+    """In the child: each estimator after a warm-up; timing, memory and scores as JSON."""
+    import time
+
+    from airwake.calibrate import load_flight
+    from airwake.estimate import estimate_wind, score_wind
+    from airwake.estimate.wind import score_bound, wind_bound
+
+    ft = load_flight(flight)
+    span = float(ft.df["t_s"].iloc[-1] - ft.df["t_s"].iloc[0])
+    head = ft.df.iloc[:600].reset_index(drop=True)
+    estimate_wind(head, spec, em_passes=1)  # warm-up: imports, kernels
+    c0 = time.process_time()
+    est = estimate_wind(ft, spec)
+    sm_cpu = time.process_time() - c0
+    score = score_wind(est.df, ft.df)
+    score_bound(score, wind_bound(est, ft.df), est.df)
+    estimate_wind(head, spec, method="apf", n_particles=particles, resampler="roulette",
+                  steps=3)
+    reset = _reset_hwm()
+    c0 = time.process_time()
+    apf = estimate_wind(ft, spec, method="apf", n_particles=particles, resampler="roulette")
+    apf_cpu = time.process_time() - c0
+    print(json.dumps({
+        "flight_s": span, "smoother_s": est.seconds, "smoother_cpu_s": sm_cpu,
+        "score": score, "prior": est.metadata["prior"],
+        "apf_s": apf.seconds, "apf_cpu_s": apf_cpu,
+        "apf_peak_rss_mb": _vm_hwm_mb() if reset else None,
+        "apf_score": score_wind(apf.df, ft.df),
+        "apf_mean_ess": float(apf.df["ess"].mean())}))
+
+
+def run(quick: bool = False) -> dict:
+    flight, spec, made_s = prepare(quick)
+    particles = 2000
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
+               MKL_NUM_THREADS="1", NUMBA_NUM_THREADS="1")
+    code = (f"from hil_sim.wind_bench import _child; "
+            f"_child({str(flight)!r}, {str(spec)!r}, {particles})")
+    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                          text=True, check=False, cwd=REPO)
+    if proc.returncode != 0:
+        raise RuntimeError(f"estimator child failed: {proc.stderr.strip()[-800:]}")
+    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    out = {
+        "wind_flight": f"{SCENARIO} seed {SEED}, {res['flight_s']:.0f} s SIL (rover+base "
+                       "firmware, daemon, export)",
+        "wind_estimator": "smoother",
+        "wind_estimator_realtime_factor": res["flight_s"] / res["smoother_s"],
+        "wind_estimator_realtime_factor_cpu": res["flight_s"] / res["smoother_cpu_s"],
+        "apf_realtime_factor": res["flight_s"] / res["apf_s"],
+        "apf_realtime_factor_cpu": res["flight_s"] / res["apf_cpu_s"],
+        "apf_peak_rss_mb": res["apf_peak_rss_mb"],
+        "apf_particles": particles,
+        "apf_mean_ess": res["apf_mean_ess"],
+        "wind_bench_prepare_s": made_s,
+    }
+    for name, c in res["score"]["components"].items():
+        short = name.replace("wind_", "").split("_")[0]
+        out[f"wind_error_mean_{short}"] = c["error_mean"]
+        out[f"wind_error_std_{short}"] = c["error_std"]
+        out[f"wind_correlation_{short}"] = c["correlation"]
+        out[f"wind_coverage90_{short}"] = c["coverage_90"]
+        out[f"wind_crlb_std_{short}"] = c["crlb_std"]
+        out[f"wind_error_over_crlb_{short}"] = c["error_over_crlb"]
+        out[f"table53_std_{short}"] = c["table_5_3_std"]
+        a = res["apf_score"]["components"][name]
+        out[f"apf_error_std_{short}"] = a["error_std"]
+        out[f"apf_error_mean_{short}"] = a["error_mean"]
+    return out
