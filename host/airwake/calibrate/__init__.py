@@ -83,7 +83,9 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     pred = WindowedPredictor(model, data, windows)
     held = []
     if params is None:
-        free, held = identified_subset(model, pred, free)
+        # residuals low-passed at f_c and sampled at f_s are correlated over ~f_s/(2 f_c)
+        corr = data_rate_over_band(data, front)
+        free, held = identified_subset(model, pred, free, correlation_samples=corr)
     if front is not None and channel_scale is None:
         model, scale = _reweight(model, pred, free, max_nfev, progress)
         data.scale = scale
@@ -110,6 +112,13 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
 
 
 REWEIGHT_WINDOWS = 16
+
+
+def data_rate_over_band(data, front) -> float:
+    """Samples per independent residual: f_s / (2 f_c) after the front end, else 1."""
+    if not front:
+        return 1.0
+    return max(1.0 / (data.dt * 2.0 * front["cutoff_hz"]), 1.0)
 
 
 def _reweight(model, pred, free, max_nfev, progress):

@@ -51,22 +51,28 @@ def fit_bounds(model, free: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return lo[free], hi[free]
 
 
-# Subset selection: a parameter joins the fit while its Jacobian column (normalised) adds
-# a direction of at least this size relative to the strongest one (pivoted QR diagonal).
-SUBSET_RCOND = 2e-3
+# Subset selection: a parameter joins the fit while the flight would pin it (given the
+# ones before it) to better than this relative std (docs/calibration.md).
+SUBSET_REL_STD = 0.25
 SUBSET_WINDOWS = 12
 
 
 def identified_subset(model, predictor, candidates: np.ndarray,
-                      rcond: float = SUBSET_RCOND) -> tuple[np.ndarray, list]:
+                      rel_std: float = SUBSET_REL_STD,
+                      correlation_samples: float = 1.0) -> tuple[np.ndarray, list]:
     """The candidates this flight identifies, and a note per one it does not.
 
     Subset selection (Golub, Klema & Stewart 1976): the Jacobian of the weighted
     residuals at the starting values (forward differences, on an evenly spaced subset of
-    the windows), columns normalised, is factored by QR with column pivoting; the pivot
-    order ranks the parameters by the new direction each adds to those before it, and a
-    parameter whose |R_kk| falls below `rcond` x |R_00| is held at its starting value:
-    the flight cannot tell it from a combination of the others (a hover flight and the
+    the windows), each column the residuals' change for a relative change of its
+    parameter, is factored by QR with column pivoting. The pivot order ranks the
+    parameters by the new information each adds to those before it (of two degenerate
+    ones the one that matters more at its value goes first: delta_0 before delta_2, which
+    in hover act alike). With the residuals in noise units, 1/|R_kk| is the relative std
+    the flight gives the k-th parameter once those before it are known, times
+    sqrt(`correlation_samples`) for residuals correlated over that many samples (a
+    low-passed flight); a parameter above `rel_std` is held at its starting value: the
+    flight cannot tell it from a combination of the others (a hover flight and the
     fuselage's drag areas, the Lock number against the lift slope and profile drag).
     Returns (mask over model.parameter_names, notes)."""
     from scipy.linalg import qr
@@ -81,7 +87,11 @@ def identified_subset(model, predictor, candidates: np.ndarray,
     full0 = model.parameter_vector()
     lo, hi = fit_bounds(model, candidates)
     q0 = np.clip((full0[candidates] - lo) / (hi - lo), 0.0, 1.0)
-    jac = _Problem(predictor, full0, candidates, lo, hi).jac(q0)
+    jac = _Problem(predictor, full0, candidates, lo, hi).jac(q0)  # d r / d q
+    # relative sensitivities: the residuals' change for a given fraction of each value
+    # (of 1 % of its range when the value is ~0), d r / d ln p
+    typical = np.maximum(np.abs(full0[candidates]), 0.01 * (hi - lo))
+    jac = jac / (hi - lo) * typical
     norms = np.linalg.norm(jac, axis=0)
     names = [n for n, c in zip(model.parameter_names, candidates, strict=True) if c]
     idx = np.flatnonzero(candidates)
@@ -89,16 +99,16 @@ def identified_subset(model, predictor, candidates: np.ndarray,
     notes = []
     if not np.any(norms > 0):
         return mask, notes
-    jn = jac / np.where(norms > 0, norms, 1.0)
-    _, r, piv = qr(jn, mode="economic", pivoting=True)
+    _, r, piv = qr(jac, mode="economic", pivoting=True)
     diag = np.abs(np.diag(r))
-    ref = diag[0] if diag.size else 0.0
     for rank, col in enumerate(piv):
-        weak = norms[col] == 0 or rank >= diag.size or diag[rank] < rcond * ref
-        if weak:
+        info = diag[rank] if rank < diag.size else 0.0
+        std = np.sqrt(correlation_samples) / info if info > 0 else np.inf
+        if norms[col] == 0 or std > rel_std:
             mask[idx[col]] = False
-            ratio = diag[rank] / ref if rank < diag.size and ref > 0 else 0.0
+            why = (f"it would be known to {100 * std:.0f} % at best, given the parameters "
+                   "it trades against" if np.isfinite(std) else
+                   "the residuals do not depend on it")
             notes.append(f"{names[col]}: held at {full0[idx[col]]:.6g} (not identified by "
-                         f"this flight: adds {ratio:.1e} of the strongest parameter's "
-                         "direction to the residuals)")
+                         f"this flight: {why})")
     return mask, notes

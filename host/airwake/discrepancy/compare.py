@@ -291,9 +291,10 @@ def wind_on_flight(wind_path, flight: Flight) -> np.ndarray:
         wt = load_flight_table(wind_path, required=("t_s", *WIND_NAMES))
     except FlightTableError as exc:
         raise DiscrepancyError(str(exc)) from None
+    from airwake.record.flight_table import flight_fingerprint
+
     fp = wt.metadata.get("flight_fingerprint")
-    here = {"rows": len(flight), "t0_s": round(float(flight.t[0]), 6),
-            "t1_s": round(float(flight.t[-1]), 6)}
+    here = flight_fingerprint(flight.df)
     if fp and fp != here:
         raise DiscrepancyError(f"{wind_path} was estimated from another flight ({fp}), not "
                                f"{flight.name} ({here})")

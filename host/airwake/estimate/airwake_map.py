@@ -110,15 +110,10 @@ def moving_average(t: np.ndarray, x: np.ndarray, window_s: float) -> np.ndarray:
     return (c[hi] - c[lo]) / np.maximum(hi - lo, 1)
 
 
-def flight_fingerprint(flight_df) -> dict:
-    """What identifies a flight table: rows and time span (rounded to the microsecond)."""
-    t = np.asarray(flight_df["t_s"], float)
-    return {"rows": int(t.size), "t0_s": round(float(t[0]), 6) if t.size else None,
-            "t1_s": round(float(t[-1]), 6) if t.size else None}
-
-
 def check_same_flight(wind_meta: dict, flight_df, wind_name: str, flight_name: str) -> None:
     """WindEstimationError when the wind table was estimated from another flight."""
+    from airwake.record.flight_table import flight_fingerprint
+
     fp = wind_meta.get("flight_fingerprint")
     if not fp:
         return

@@ -157,8 +157,8 @@ def _map_handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from airwake.estimate.errors import WindEstimationError
-    from airwake.estimate.map_report import make_map
     from airwake.estimate.map_plots import ShipOutline
+    from airwake.estimate.map_report import make_map
     from airwake.record.flight_table import FlightTableError, load_flight_table
 
     out = Path(args.out)

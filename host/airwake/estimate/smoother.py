@@ -392,7 +392,6 @@ class WindSmoother:
     # -- EM ---------------------------------------------------------------------------
     def _em(self, passes: list[tuple[slice, _Pass, _Lin]], prior: WindPrior,
             r_diag: np.ndarray) -> tuple[WindPrior, np.ndarray]:
-        m = self.m
         d = self.pre.data
         s00 = np.zeros(6)
         s11 = np.zeros(6)
@@ -543,7 +542,6 @@ class WindSmoother:
         return out
 
     def _result(self, passes, prior, noise_std, history, seconds) -> SmootherResult:
-        m = self.m
         n = self.pre.data.t.size
         out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs", "mu")}
         c = self._wind_rows()

@@ -73,8 +73,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     APF; cutoff_hz=0 feeds the APF the raw flight as the reference did)."""
     from airwake.calibrate import CalibrationError, load_flight, load_model
     from airwake.calibrate.residuals import FlightData
-    from airwake.estimate.airwake_map import flight_fingerprint
     from airwake.estimate.errors import WindEstimationError
+    from airwake.record.flight_table import flight_fingerprint
 
     if method not in METHODS:
         raise WindEstimationError(f"unknown method {method!r}; use one of {list(METHODS)}")
@@ -94,7 +94,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         "model_spec": str(model) if not hasattr(model, "effects") else "<model>",
         "frame": "body axes at the main-rotor hub (eq 5.3)",
         "ins_velocity_std_m_s": float(ins_velocity_std),
-        "flight_fingerprint": flight_fingerprint(ft.df),
+        "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),
     }
     smoother = result = None
     if method == "smoother":

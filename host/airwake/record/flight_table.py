@@ -207,3 +207,20 @@ def write_flight_table(df: pd.DataFrame, path, metadata: Mapping | None = None) 
             f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv"
         )
     return p
+
+
+FINGERPRINT_COLUMNS = ("t_s", "acc_z_m_s2", "p_rad_s")
+
+
+def flight_fingerprint(flight_df) -> dict:
+    """What identifies a flight table: rows, time span (to the microsecond) and a digest of
+    its time and two measured columns (two simulated flights share rows and span)."""
+    import hashlib
+
+    t = np.asarray(flight_df["t_s"], float)
+    h = hashlib.sha1()
+    for c in FINGERPRINT_COLUMNS:
+        if c in flight_df.columns:
+            h.update(np.ascontiguousarray(np.asarray(flight_df[c], np.float64)).tobytes())
+    return {"rows": int(t.size), "t0_s": round(float(t[0]), 6) if t.size else None,
+            "t1_s": round(float(t[-1]), 6) if t.size else None, "digest": h.hexdigest()[:16]}

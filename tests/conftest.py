@@ -1,0 +1,64 @@
+"""Fixtures shared across the test areas: the documented calibration and truth-world
+flights for the wind tests (made once per session, shared by the xdist workers)."""
+
+import pytest
+from airwake.record.flight_table import write_flight_table
+
+
+def _shared_dir(tmp_path_factory):
+    base = tmp_path_factory.getbasetemp()
+    root = base.parent if base.name.startswith("popen-gw") else base
+    d = root / "wind-shared"
+    d.mkdir(exist_ok=True)
+    return d
+
+
+def _once(tmp_path_factory, name: str, make):
+    """The file `name`, made by make(path) exactly once across the xdist workers."""
+    import fcntl
+
+    d = _shared_dir(tmp_path_factory)
+    path = d / name
+    with open(d / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not path.exists():
+            tmp = d / f".{name}.tmp{path.suffix}"
+            make(tmp)
+            tmp.rename(path)
+    return path
+
+
+@pytest.fixture(scope="session")
+def wind_baseline(tmp_path_factory):
+    """The documented calibration (docs/calibration.md, docs/wind-estimation.md): the
+    still-air calibration flight, `airwake calibrate` from Table 5.2 on 24 windows."""
+    from airwake.calibrate import calibrate, write_spec
+
+    def make(path):
+        flight = _once(tmp_path_factory, "still_air_calibration.parquet",
+                       lambda p: _sim("still_air_calibration", None, None, p))
+        res = calibrate(flight, model="table52", max_windows=24)
+        from airwake.calibrate.commands import calibration_table
+
+        write_spec(res.model, path, "test baseline", calibration_table(res, flight, "table52"))
+
+    return _once(tmp_path_factory, "baseline.toml", make)
+
+
+def _sim(scenario, seed, duration, path):
+    from hil_sim.world.run import run_scenario
+    from hil_sim.world.scenario import load_scenario
+
+    built = run_scenario(load_scenario(scenario), seed=seed, duration_s=duration).flight_table()
+    write_flight_table(built.df, path, built.metadata)
+
+
+@pytest.fixture(scope="session")
+def truth_world_flight(tmp_path_factory):
+    """Factory: (scenario, seed, duration_s) -> path of its truth-world flight table."""
+
+    def get(scenario: str, seed: int, duration_s: float):
+        name = f"{scenario}-{seed}-{duration_s:g}.parquet"
+        return _once(tmp_path_factory, name, lambda p: _sim(scenario, seed, duration_s, p))
+
+    return get
