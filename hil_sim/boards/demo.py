@@ -93,11 +93,10 @@ def main(argv: list[str] | None = None) -> int:
     with_wind = _airwake("model", "compare", str(scored), "--model", str(base), "--windows",
                          "0", "--wind", str(wind), "--json", "--quiet", capture=True)
     write_report(report, mapdir, calib, est, amap, still_air, with_wind, args)
-    print(f"\n{amap['headline']}")
     print(f"\ndemo done in {time.monotonic() - t0:.0f} s:\n  baseline     {base}\n"
           f"  recording    {rec}\n  flight table {flight}\n  wind         {wind}\n"
           f"  airwake map  {mapdir / 'map.parquet'} ({', '.join(amap['figures'])})\n"
-          f"  report       {report / 'index.html'}", flush=True)
+          f"  report       {report / 'index.html'}\n\n{amap['headline']}", flush=True)
     return 0
 
 
