@@ -123,24 +123,18 @@ def plot_map(cells, out_dir, cell_m: float, frame: str, ship: ShipOutline | None
     fig.savefig(paths["mean_flow"], bbox_inches="tight")
     plt.close(fig)
 
-    fig, ax = _axes(frame)
-    _cells_image(ax, layer, layer["ti"], cell_m, "viridis", "turbulence intensity", 0.0,
-                 max(float(layer["ti"].max()), 0.05))
-    if ship is not None:
-        ship.draw(ax)
-    _frame_limits(ax, layer, cell_m, ship)
-    ax.set_title(f"{title}turbulence intensity (sigma / U_ref)\n{where}", fontsize=10)
-    paths["turbulence"] = out / "turbulence.png"
-    fig.savefig(paths["turbulence"], bbox_inches="tight")
-    plt.close(fig)
-
-    fig, ax = _axes(frame)
-    _cells_image(ax, layer, layer["seconds"], cell_m, "magma_r", "seconds of data", 0.0)
-    if ship is not None:
-        ship.draw(ax)
-    _frame_limits(ax, layer, cell_m, ship)
-    ax.set_title(f"{title}sample coverage\n{where}", fontsize=10)
-    paths["coverage"] = out / "coverage.png"
-    fig.savefig(paths["coverage"], bbox_inches="tight")
-    plt.close(fig)
+    for name, values, cmap, label, vmax, what in (
+            ("turbulence", layer["ti"], "viridis", "turbulence intensity",
+             max(float(layer["ti"].max()), 0.05), "turbulence intensity (sigma / U_ref)"),
+            ("coverage", layer["seconds"], "magma_r", "seconds of data", None,
+             "sample coverage")):
+        fig, ax = _axes(frame)
+        _cells_image(ax, layer, values, cell_m, cmap, label, 0.0, vmax)
+        if ship is not None:
+            ship.draw(ax)
+        _frame_limits(ax, layer, cell_m, ship)
+        ax.set_title(f"{title}{what}\n{where}", fontsize=10)
+        paths[name] = out / f"{name}.png"
+        fig.savefig(paths[name], bbox_inches="tight")
+        plt.close(fig)
     return paths
