@@ -7,6 +7,7 @@ import subprocess
 import sys
 
 from airwake.heli import load_spec, spec_calibration
+from browser import images_loaded
 from sil_harness import REPO
 
 
@@ -26,6 +27,10 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert "best explained by" not in html
     for f in ("mean_flow.png", "turbulence.png", "coverage.png"):
         assert (out / "report" / f).stat().st_size > 0 and f in html
+    # a real browser opens the report and the map's page with every figure loaded
+    assert images_loaded(report) == (3, 3)
+    assert images_loaded(out / "map" / "index.html") == (3, 3)
+    assert "http://" not in html and "https://" not in html and "<script" not in html
     summary = json.loads((out / "map" / "summary.json").read_text())
     assert summary["frame"] == "ship" and summary["cells"] > 0 and "score" in summary
     assert summary["headline"] in html
