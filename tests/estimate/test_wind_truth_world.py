@@ -86,3 +86,12 @@ def test_the_apf_baseline_runs_on_the_same_flight(estimates, wind_baseline):
                         resampler="roulette", seed=2)
     assert apf.df["resampled"].all() and np.isfinite(apf.df[list(WIND_NAMES)]).all().all()
     assert apf.metadata["front_end"]["rate_hz"] == pytest.approx(30.0, rel=0.01)
+
+
+def test_the_flight_is_checked_against_the_calibration_envelope(estimates):
+    # the ship flights' air velocity (wind - own velocity) stays inside what the
+    # calibration flight's legs covered, and the estimate says so
+    for scenario in ("ship_airwake_b0", "ship_airwake_b15"):
+        env = estimates[scenario][1].metadata["calibration_envelope"]
+        assert all(v >= 0.9 for v in env["inside_fraction"].values()), env
+        assert env["trusted"]["vx"] and env["trusted"]["vy"]

@@ -57,6 +57,7 @@ def _handle(args: argparse.Namespace) -> int:
                       skipped_samples=int(est.df["skipped"].sum()))
     else:
         report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"])
+    report["calibration_envelope"] = est.metadata.get("calibration_envelope")
     if args.score:
         report["score"] = score_wind(est.df, ft.df, args.burn_in_s)
         if args.method == "smoother":
@@ -79,6 +80,15 @@ def _handle(args: argparse.Namespace) -> int:
                 + " ".join(f"{v:.2g}" for v in pr["tau_s"]) + " s; channel noise "
                 + " ".join(f"{v:.2g}" for v in report["noise_std"]))
         print(line)
+        env = est.metadata.get("calibration_envelope")
+        if env:
+            inside = env["inside_fraction"]
+            print("air velocity inside the calibration flight's envelope: " + ", ".join(
+                f"{a} {100 * v:.0f} %" for a, v in inside.items())
+                + ("" if min(inside.values()) >= 0.9 else
+                   " - outside it the speed-dependent terms are extrapolated") + "; "
+                + "components the calibration trusts: "
+                + (" ".join(k for k, v in env["trusted"].items() if v) or "none"))
         if args.score:
             print_score(report["score"])
         print(f"wrote {args.out}")

@@ -109,10 +109,31 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
             sigma, resampler, ess_threshold, jitter, seed, process_std, init_half_width,
             channel_scale, steps, progress)
     meta.update(extra)
+    meta["calibration_envelope"] = envelope_check(model, data, heli, df)
     span = float(df["t_s"].iloc[-1] - df["t_s"].iloc[0]) if len(df) > 1 else 0.0
     meta["seconds"] = seconds
     meta["realtime_factor"] = span / seconds if seconds > 0 else 0.0
     return WindEstimate(df, meta, seconds, smoother, result)
+
+
+def envelope_check(spec, data, heli, df) -> dict | None:
+    """How much of the flight's air velocity (estimated wind - body velocity, body axes)
+    lies inside the envelope the model was calibrated over (the spec's [calibration]
+    table, `airwake.calibrate.envelope`); None when the spec has none."""
+    from airwake.calibrate.envelope import envelope_fraction
+    from airwake.heli import spec_calibration
+
+    cal = spec_calibration(spec)
+    if not cal or "envelope" not in cal:
+        return None
+    t = np.asarray(df["t_s"], float)
+    vel = np.column_stack([np.interp(t, data.t, data.x[:, heli.state_index(s)])
+                           for s in ("vel_u_m_s", "vel_v_m_s", "vel_w_m_s")])
+    air = np.column_stack([np.asarray(df[n], float) for n in WIND_NAMES[:3]]) - vel
+    inside = envelope_fraction(cal["envelope"], air)
+    return {"inside_fraction": {a: float(v) for a, v in zip("xyz", inside, strict=True)},
+            "trusted": cal.get("trusted", {}),
+            "calibration_flight": cal.get("flight")}
 
 
 def _frame(t, mean, std, ins_velocity_std, extra_cols=None):
