@@ -71,3 +71,19 @@ def test_bad_sigma_and_output_suffix_are_errors(tiny_wind_file, tmp_path, capsys
 def test_bare_wind_group_prints_its_help(capsys):
     assert main(["wind"]) == 2
     assert "estimate" in capsys.readouterr().err
+
+
+def test_a_model_that_does_not_fly_is_one_line_and_nothing_is_written(tiny_wind_file,
+                                                                      tmp_path, capsys):
+    # a blade without lift (Lock number ~0): refused where the spec loads, by the effect's
+    # bounds, naming the parameter; one line, exit status 2, no table written
+    bad = tmp_path / "broken.toml"
+    text = (__import__("airwake.heli.spec", fromlist=["builtin_spec"]).builtin_spec("table52")
+            .read_text().replace("lock_number = 3.3933", "lock_number = 1e-300"))
+    bad.write_text(text)
+    out = tmp_path / "wind.parquet"
+    code = main(["wind", "estimate", str(tiny_wind_file), "--model", str(bad), "--out",
+                 str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert ("lock_number" in err or "model" in err) and not out.exists()

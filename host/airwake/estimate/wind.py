@@ -174,7 +174,18 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
     except ValueError as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
-    res = sm.run(bar)
+    try:
+        res = sm.run(bar)
+    except (ArithmeticError, ValueError, RuntimeError, TypeError, np.linalg.LinAlgError) as exc:
+        # a model that does not fly this flight (a plugin that raises, a singular rotor)
+        raise WindEstimationError(f"{data.source}: the model failed on this flight: "
+                                  f"{type(exc).__name__}: {exc}") from None
+    bad = ~np.all(np.isfinite(res.mean) & np.isfinite(res.std), axis=1)
+    if bad.any():
+        raise WindEstimationError(
+            f"{data.source}: the model's prediction is not finite from t = "
+            f"{res.t[np.argmax(bad)]:.2f} s on ({int(bad.sum())} samples): check the model "
+            "spec's parameters and the flight's units")
     span = float(res.t[-1] - res.t[0]) if res.t.size > 1 else 0.0
     bar.finish(f"{span / max(res.seconds, 1e-9):.1f} x real time")
     df = _frame(res.t, res.mean, res.std, ins_velocity_std)
