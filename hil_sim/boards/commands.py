@@ -133,7 +133,6 @@ def format_report(result) -> str:
     return "\n".join(lines)
 
 
-
 def _truth(args: argparse.Namespace) -> int:
     import os
     from pathlib import Path
@@ -146,8 +145,11 @@ def _truth(args: argparse.Namespace) -> int:
     flight = load_flight_table(args.flight)
     df, meta = add_truth(flight, Path(args.recording))
     tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
-    write_flight_table(df, tmp, meta)
-    os.replace(tmp, out)
+    try:
+        write_flight_table(df, tmp, meta)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
     n = sum(c.startswith("truth_") for c in df.columns)
     print(f"{out}: {len(df)} rows, {n} truth columns from {args.recording}/sil "
           f"(simulator time = t_s + {meta['sim_time_offset_s']:.6f} s)")

@@ -763,7 +763,12 @@ def add_truth(flight, recording: Path):
     tt = truth.df["t_s"].to_numpy(float)
     for c in truth.df.columns:
         if c.startswith("truth_"):
-            df[c] = np.interp(t_sim, tt, truth.df[c].to_numpy(float))
+            v = truth.df[c].to_numpy(float)
+            if c.endswith("yaw_rad"):  # wrapped to (-pi, pi]: interpolate it unwrapped
+                v = np.unwrap(v)
+                df[c] = np.pi - np.mod(np.pi - np.interp(t_sim, tt, v), 2 * np.pi)
+            else:
+                df[c] = np.interp(t_sim, tt, v)
     meta = dict(flight.metadata)
     for k in ("scenario", "seed", "scenario_config", "sim"):
         if k in truth.metadata:

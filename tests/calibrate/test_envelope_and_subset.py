@@ -89,4 +89,4 @@ def test_a_cutoff_above_the_rotor_harmonics_is_refused(short_flight_file, tmp_pa
     assert main(["calibrate", str(short_flight_file), "--out", str(out), "--cutoff-hz", "20",
                  "--params", "rigid_body.Ixx_kg_m2"]) == 2
     err = capsys.readouterr().err
-    assert "cutoff_hz 20" in err and "1/rev" in err and not out.exists()
+    assert "--cutoff-hz 20" in err and "1/rev" in err and not out.exists()

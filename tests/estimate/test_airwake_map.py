@@ -52,6 +52,22 @@ def test_flow_is_turned_into_the_ship_frame_relative_to_the_ship():
     assert s_.frame == "ship" and s_.u_ref == pytest.approx(np.hypot(3.0, 0.2))
 
 
+def test_a_banked_pitched_helicopter_is_turned_by_its_full_attitude():
+    # body -> NED by yaw-pitch-roll (z-y-x), checked against scipy's rotation
+    from scipy.spatial.transform import Rotation
+
+    roll, pitch, yaw, heading = 0.3, -0.2, 1.1, 0.4
+    fl = _ship_flight(heading=heading, yaw=yaw)
+    fl["roll_rad"], fl["pitch_rad"] = roll, pitch
+    v_body, w_body = np.array([1.0, -0.5, 0.3]), np.array([0.1, 0.2, -0.05])
+    s_ = map_samples(_wind(fl["t_s"].to_numpy(), v_body, w_body), fl, ins_std=0.0)
+    r = Rotation.from_euler("ZYX", [yaw, pitch, roll]).as_matrix()
+    to_ship = Rotation.from_euler("Z", heading).as_matrix().T
+    ship_v = np.array([2.0 * np.cos(heading), 2.0 * np.sin(heading), 0.0])
+    np.testing.assert_allclose(s_.flow[0], to_ship @ (r @ v_body - ship_v), atol=1e-9)
+    np.testing.assert_allclose(s_.rot[0], to_ship @ r @ w_body, atol=1e-12)
+
+
 def test_cells_hold_the_mean_and_the_total_turbulent_variance():
     rng = np.random.default_rng(0)
     n = 2000
@@ -90,6 +106,34 @@ def test_a_flight_without_rtk_or_ship_columns_is_refused_naming_the_problem(tmp_
     fl = fl.drop(columns=["rel_pos_n_m"])
     with pytest.raises(WindEstimationError, match="no RTK baseline"):
         map_samples(_wind(fl["t_s"].to_numpy(), (1, 0, 0)), fl)
+
+
+def test_samples_where_the_position_was_held_over_a_gap_are_left_out():
+    fl = _ship_flight()
+    fl["hub_ship_valid"] = 1.0
+    fl.loc[100:199, "hub_ship_valid"] = 0.0  # an RTK outage: the builder held the position
+    s_ = map_samples(_wind(fl["t_s"].to_numpy(), (1, 0, 0)), fl)
+    assert s_.t.size == 200 and not np.any((s_.t >= 10.0) & (s_.t < 19.95))
+
+
+def test_an_unrelated_directory_is_never_replaced_by_a_map(tmp_path, capsys):
+    fl = _ship_flight()
+    flight = tmp_path / "f.parquet"
+    wind = tmp_path / "w.parquet"
+    write_flight_table(fl, flight)
+    write_flight_table(_wind(fl["t_s"].to_numpy(), (-3.0, 0.0, 0.0)), wind)
+    precious = tmp_path / "data"
+    precious.mkdir()
+    (precious / "flight-logs.txt").write_text("keep me")
+    assert main(["wind", "map", str(wind), "--flight", str(flight), "--out",
+                 str(precious)]) == 2
+    assert "not an earlier map" in capsys.readouterr().err
+    assert (precious / "flight-logs.txt").read_text() == "keep me"
+    # an earlier map is replaced
+    assert main(["wind", "map", str(wind), "--flight", str(flight), "--out",
+                 str(tmp_path / "m"), "--min-seconds", "0.1"]) == 0
+    assert main(["wind", "map", str(wind), "--flight", str(flight), "--out",
+                 str(tmp_path / "m"), "--min-seconds", "0.1"]) == 0
 
 
 @pytest.fixture(scope="module")

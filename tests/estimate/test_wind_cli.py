@@ -73,17 +73,49 @@ def test_bare_wind_group_prints_its_help(capsys):
     assert "estimate" in capsys.readouterr().err
 
 
-def test_a_model_that_does_not_fly_is_one_line_and_nothing_is_written(tiny_wind_file,
-                                                                      tmp_path, capsys):
-    # a blade without lift (Lock number ~0): refused where the spec loads, by the effect's
-    # bounds, naming the parameter; one line, exit status 2, no table written
-    bad = tmp_path / "broken.toml"
-    text = (__import__("airwake.heli.spec", fromlist=["builtin_spec"]).builtin_spec("table52")
-            .read_text().replace("lock_number = 3.3933", "lock_number = 1e-300"))
-    bad.write_text(text)
+BROKEN_PLUGIN = '''
+import numpy as np
+from airwake.heli import Effect, Parameter, register_effect
+
+
+@register_effect("stalls_in_wind")
+class StallsInWind(Effect):
+    """A user's effect that fails once the wind is not still: it raises."""
+
+    PARAMETERS = (Parameter("k", 0.0, "-", (-1.0, 1.0), "test"),)
+    REQUIRES = ("rigid_body",)
+
+    def forces(self, ctx, p):
+        if np.any(np.abs(np.asarray(ctx.wind_v_m_s)) > 1e-3):
+            raise FloatingPointError("the user's drag table has no entry for this airspeed")
+        ctx.add_load(self.name, np.zeros((ctx.n, 3)), np.zeros((ctx.n, 3)))
+'''
+
+
+@pytest.fixture(scope="module")
+def broken_spec(tmp_path_factory):
+    """table52 plus a user plugin that raises on a flight in wind (registered once)."""
+    from airwake.heli import load_spec, save_spec
+    from airwake.heli.effects.base import effect_class
+    from airwake.heli.plugins import load_plugin
+
+    d = tmp_path_factory.mktemp("broken")
+    plugin = d / "stalls_in_wind.py"
+    plugin.write_text(BROKEN_PLUGIN)
+    load_plugin(plugin)
+    spec = d / "broken.toml"
+    save_spec(load_spec("table52") + effect_class("stalls_in_wind")(), spec)
+    return spec
+
+
+@pytest.mark.parametrize("method", [[], ["--method", "apf", "--particles", "50"]])
+def test_a_model_that_does_not_fly_the_flight_is_one_line_and_nothing_is_written(
+        tiny_wind_file, broken_spec, tmp_path, capsys, method):
+    # a spec whose user plugin raises on this flight: one line naming the flight and the
+    # failure, exit status 2, no wind table
     out = tmp_path / "wind.parquet"
-    code = main(["wind", "estimate", str(tiny_wind_file), "--model", str(bad), "--out",
-                 str(out)])
+    code = main(["wind", "estimate", str(tiny_wind_file), "--model", str(broken_spec),
+                 "--out", str(out), *method])
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1, err
-    assert ("lock_number" in err or "model" in err) and not out.exists()
+    assert str(tiny_wind_file) in err and "drag table" in err and not out.exists()

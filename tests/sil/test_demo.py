@@ -23,6 +23,12 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     html = report.read_text()
     # the headline is the map; the model section does not blame an effect for the wind
     assert html.index("Airwake map") < html.index("The model on this flight")
+    # ... because the estimated wind, given to the model, takes the residual to its floor
+    still = json.loads((out / "compare_still_air.json").read_text())["channels"]
+    wind = json.loads((out / "compare_with_wind.json").read_text())["channels"]
+    worst_still = max(c["rms_over_noise"] for c in still.values())
+    worst_wind = max(c["rms_over_noise"] for c in wind.values())
+    assert worst_wind <= 8.0 and worst_still > 2 * worst_wind, (worst_still, worst_wind)
     assert "The residual of this flight is the airwake" in html
     assert "best explained by" not in html
     for f in ("mean_flow.png", "turbulence.png", "coverage.png"):

@@ -43,14 +43,11 @@ def load_flight(flight):
     return flight
 
 
-CUTOFF_HZ = 6.0  # the wind estimator's front end (airwake.estimate.prefilter)
-
-
 def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
               window_s: float = 2.0, warmup_s: float = 1.0, max_windows: int | None = None,
               seed: int = 0, particles: int = 2000, iterations: int = 500,
               pso_windows: int | None = 16, spread: float = 0.5, max_nfev: int = 60,
-              channel_scale=None, cutoff_hz: float | None = CUTOFF_HZ,
+              channel_scale=None, cutoff_hz: float | None = 6.0,
               progress: bool = False) -> FitResult:
     """Fit the model's free parameters to a flight (see docs/calibration.md).
 
@@ -155,7 +152,7 @@ def _front_end(data, model, cutoff_hz: float, channel_scale):
     try:
         pre = prefilter(data, model, cutoff_hz, fs)
     except WindEstimationError as exc:
-        raise CalibrationError(str(exc).replace("--cutoff-hz", "cutoff_hz")) from None
+        raise CalibrationError(str(exc)) from None
     out = pre.data
     if channel_scale is None:
         out.scale = data.scale * np.sqrt(min(2.0 * cutoff_hz / fs, 1.0))

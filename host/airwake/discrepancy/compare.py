@@ -299,6 +299,8 @@ def wind_on_flight(wind_path, flight: Flight) -> np.ndarray:
         raise DiscrepancyError(f"{wind_path} was estimated from another flight ({fp}), not "
                                f"{flight.name} ({here})")
     t = wt.df["t_s"].to_numpy(float)
+    if t.size < 2:
+        raise DiscrepancyError(f"{wind_path}: {t.size} rows: not a wind estimate of a flight")
     if t[0] > flight.t[0] + 0.5 or t[-1] < flight.t[-1] - 0.5:
         raise DiscrepancyError(f"{wind_path} covers t = {t[0]:.2f} ... {t[-1]:.2f} s, not the "
                                f"flight's {flight.t[0]:.2f} ... {flight.t[-1]:.2f} s")

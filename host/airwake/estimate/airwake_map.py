@@ -3,7 +3,7 @@
 
     samples = map_samples(wind_df, flight)            # per estimate: position, flow, std
     cells = grid_samples(samples, cell_m=0.5)         # one row per occupied cell
-    write_map(cells, samples, "MAPDIR", metadata)     # map.parquet, PNGs, summary.json
+    write_map(cells, "MAPDIR", metadata)              # map.parquet (map_report: the rest)
 
 Frames. On a ship the position is the rotor hub in the ship frame from the flight table's
 `hub_ship_x/y/z_m` (RTK baseline rotated by the ship's attitude plus the base antenna's
@@ -20,6 +20,9 @@ the wake moves with the ship's translation). Rotations are turned the same way
 (R_z^T R w_body). Without a ship (a hall, a field) the frame is the site's NED frame and
 the position the INS's (`pos_n/e/d_m`): indoors without the tracker that position drifts
 by the INS's own error.
+
+Samples where the flight's `hub_ship_valid` is 0 (an RTK or base-INS gap: the position
+is held there, not measured) are left out.
 
 Cells: squares of `cell_m` in x, y and layers of `layer_m` in z. Per cell, from the n
 samples (times t, mean m_i, posterior std s_i per component) in it:
@@ -161,11 +164,21 @@ def map_samples(wind_df, flight_df, ins_std: float = 0.05,
         raise WindEstimationError(f"the wind table lacks column(s) {missing}")
     tf = np.asarray(flight_df["t_s"], float)
     t = np.asarray(wind_df["t_s"], float)
+    if t.size == 0:
+        raise WindEstimationError("the wind table has no rows")
     inside = (t >= tf[0] - 1e-9) & (t <= tf[-1] + 1e-9)
     if not inside.all():
         raise WindEstimationError(
             f"the wind table spans t = {t[0]:.3f} ... {t[-1]:.3f} s, outside the flight's "
             f"{tf[0]:.3f} ... {tf[-1]:.3f} s: is it from another flight?")
+    if frame == "ship" and "hub_ship_valid" in flight_df.columns:
+        # positions held over RTK or base-INS gaps are not positions: those samples go
+        valid = np.interp(t, tf, np.asarray(flight_df["hub_ship_valid"], float)) > 0.999
+        if not valid.any():
+            raise WindEstimationError("no sample of the flight has both the RTK baseline "
+                                      "and the ship's INS (hub_ship_valid is 0 throughout)")
+        wind_df = wind_df[valid].reset_index(drop=True)
+        t = t[valid]
 
     def at(col, unwrap=False):
         v = np.asarray(flight_df[col], float)

@@ -22,8 +22,9 @@ def print_score(score: dict, stream=None) -> None:
           + " ".join(f"{v:.3g}" for v in score["crlb"]["noise_std"]) + ")\n")
         w(f"{'component':<15}{'error RMS':>10}{'bound':>8}{'ratio':>7}\n")
         for name, c in score["components"].items():
+            ratio = c["error_over_crlb"]
             w(f"{name:<15}{c['error_rms']:>10.3f}{c['crlb_std']:>8.3f}"
-              f"{c['error_over_crlb']:>7.2f}\n")
+              + (f"{ratio:>7.2f}\n" if ratio is not None else f"{'-':>7}\n"))
 
 
 def _handle(args: argparse.Namespace) -> int:

@@ -5,7 +5,7 @@
 Each figure shows one layer (the one holding most of the flight's time; its z in the
 title), cells as squares seen from above: on a ship a plan view with the bow to the right
 and starboard down the page, the flight deck and hangar outlined; elsewhere north to the
-right, east up.
+right and east down (the same plan view of the NED frame).
 """
 
 from __future__ import annotations
@@ -55,10 +55,11 @@ def _axes(frame: str):
     if frame == "ship":
         ax.set_xlabel("x (m, forward of the hangar step)")
         ax.set_ylabel("y (m, starboard)")
-        ax.invert_yaxis()  # plan view: starboard down the page, bow to the right
     else:
         ax.set_xlabel("north (m)")
         ax.set_ylabel("east (m)")
+    # plan view from above: x (bow, north) to the right, y (starboard, east) down the page
+    ax.invert_yaxis()
     return fig, ax
 
 

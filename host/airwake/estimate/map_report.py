@@ -6,7 +6,8 @@ MAPDIR holds map.parquet (the cells, `airwake.estimate.airwake_map`), mean_flow.
 turbulence.png, coverage.png (`map_plots`), summary.json (settings, headline numbers and
 the score) and index.html (the figures and the numbers on one page). Everything is
 written to a temporary sibling directory that replaces MAPDIR only once complete, so a
-failure leaves the previous MAPDIR (or none) untouched.
+failure leaves the previous MAPDIR (or none) untouched; an existing MAPDIR is replaced only
+when it is empty or an earlier map (it holds map.parquet or summary.json).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from airwake.estimate.airwake_map import (
     write_json,
     write_map,
 )
+from airwake.estimate.errors import WindEstimationError
 
 
 def headline(amap) -> str:
@@ -57,11 +59,15 @@ def make_map(wind, flight, out_dir, *, cell_m: float = 0.5, layer_m: float = 1.0
     from airwake.estimate.map_plots import plot_map
 
     check_same_flight(wind.metadata, flight.df, wind_name, flight_name)
+    out = Path(out_dir)
+    if out.exists() and (not out.is_dir() or (any(out.iterdir()) and not (
+            (out / "map.parquet").exists() or (out / "summary.json").exists()))):
+        raise WindEstimationError(f"--out {out}: exists and is not an earlier map (no "
+                                  "map.parquet): refusing to replace it")
     amap = build_map(wind.df, flight.df, wind_meta=wind.metadata, cell_m=cell_m,
                      layer_m=layer_m, min_seconds=min_seconds, u_ref=u_ref)
     if score:
         amap.score = score_map(amap, flight.df, flight.metadata)
-    out = Path(out_dir)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-", dir=out.parent))
     try:
         meta = {"source": "airwake wind map", "wind": wind_name, "flight": flight_name,

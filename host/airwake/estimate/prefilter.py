@@ -1,7 +1,7 @@
 """The wind estimators' front end: a zero-phase low-pass below the rotor's harmonics, then
 decimation.
 
-    pre = prefilter(data, cutoff_hz=6.0, rate_hz=25.0)   # data: calibrate.residuals.FlightData
+    pre = prefilter(data, model, cutoff_hz=6.0, rate_hz=15.0)   # data: residuals.FlightData
     pre.data     # FlightData at the kept samples: t, x (body states), u, env, z, runs, dt
     pre.mid_x, pre.mid_u, pre.mid_env   # inputs half-way between consecutive kept samples
     pre.index    # (n,) flight rows of the kept samples
@@ -38,7 +38,7 @@ from airwake.calibrate.residuals import FlightData
 from airwake.estimate.errors import WindEstimationError
 
 CUTOFF_HZ = 6.0
-RATE_HZ = 25.0
+RATE_HZ = 15.0
 FILTER_ORDER = 4
 MIN_RUN_S = 1.0
 # cutoff must stay below this fraction of the rotor's 1/rev frequency

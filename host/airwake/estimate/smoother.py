@@ -20,10 +20,10 @@ on the front end's low-passed, decimated samples (`airwake.estimate.prefilter`).
 
 Each step is linearised at a point s_bar (Jacobians by forward differences: one batched
 model evaluation of 1 + m + 6 rows gives f_h or z_hat and their derivatives in h and w),
-and the linear system is discretised exactly over the step (Van Loan's matrix
-exponential for the transition Phi and the process covariance Q; the exponential
-Rosenbrock-Euler step for the mean, exact for the local affine dynamics, so the stiff
-rotor modes need no small steps):
+and the linear system is discretised over the step (one matrix exponential of the half
+step gives the transition Phi and the exponential Rosenbrock-Euler step for the mean,
+exact for the local affine dynamics, so the stiff rotor modes need no small steps;
+Simpson's rule the process covariance Q):
 
     s_k^- = s_{k-1} + int_0^dt e^{A r} dr F(s_{k-1}),   P_k^- = Phi P_{k-1} Phi^T + Q
     K = P^- H^T (H P^- H^T + R)^-1,  s_k = s_k^- + K (z_k - z_hat_k),
@@ -36,18 +36,18 @@ estimate is kept as `filtered_*` for what runs live.
 
 Iterations: the first pass linearises along its own filtered estimate (an EKF); the next
 `relinearise - 1` passes along the previous smoothed trajectory (the iterated extended
-smoother, a Gauss-Newton step on the whole trajectory each); every pass then re-estimates
-the prior's sigma, tau and mean walk per component and the channel noise from the
-smoothed moments (EM for linear-Gaussian state-space models, Shumway & Stoffer 1982):
+smoother, a Gauss-Newton step on the whole trajectory each); after every pass but the
+last the turbulence std sigma per component and the channel noise are re-estimated from
+the smoothed moments (EM for linear-Gaussian state-space models, Shumway & Stoffer 1982),
+the correlation time tau staying the prior's (physics, `wind_prior`):
 
-    xi:  a = S10 / S00,  q = (S11 - 2 a S10 + a^2 S00) / n,  sigma^2 = q / (1 - a^2),
-         tau = -dt / ln a         (S10 = sum E[xi_k xi_{k-1}], S00, S11 likewise)
-    mu:  q_mu^2 dt = mean E[(mu_k - mu_{k-1})^2]
+    xi:  a = e^{-dt/tau},  q = (S11 - 2 a S10 + a^2 S00) / n,  sigma^2 = q / (1 - a^2)
+         (S10 = sum E[xi_k xi_{k-1}] from the lag-one covariances, S00, S11 likewise)
     R:   mean of (z_k - z_hat(s^s_k))^2 + (H P^s_k H^T)_cc
 
-so sigma and tau are the flow's own statistics as the measurements reveal them, and the
-channel noise is the model's actual misfit after the front end (model error included),
-not a guess. Each continuous run of the flight is estimated on its own.
+so sigma is the flow's own statistic as the measurements reveal it, and the channel noise
+the model's actual misfit after the front end (model error included), not a guess. Each
+continuous run of the flight is estimated on its own.
 """
 
 from __future__ import annotations
@@ -66,36 +66,17 @@ from airwake.calibrate.hidden import (
     single_blas_thread,
 )
 from airwake.estimate.prefilter import Prefiltered
-from airwake.estimate.wind_prior import TAU_BOUNDS_S, WindPrior
+from airwake.estimate.wind_prior import WindPrior
 
 ITERATIONS = 3
 RELINEARISE = 2
-LEARN = ("sigma", "tau", "mean_walk", "noise")
-LEARN_DEFAULT = ("sigma", "noise")
+LEARN = ("sigma", "noise")
 SIGMA_FLOOR = np.array([0.02, 0.02, 0.02, 0.01, 0.01, 0.01])
 MEAN_WALK_FLOOR = 1e-3
 NOISE_FLOOR = 1e-4
 FD_STEP_H = 1e-6
 FD_STEP_W = 1e-4
 LOG_2PI = float(np.log(2.0 * np.pi))
-CORRELATION_LAGS = 10
-
-
-def _integrated_correlation(lags: np.ndarray) -> np.ndarray:
-    """(6,) integrated autocorrelation time (in samples) of each channel's residual,
-    1 + 2 sum_l rho_l over the lags before rho first drops to <= 0, in [1, 10]: the
-    factor by which correlated residuals carry less information than independent ones."""
-    rho = lags[1:] / np.maximum(lags[0], 1e-300)
-    out = np.ones(lags.shape[1])
-    for c in range(lags.shape[1]):
-        total = 0.0
-        for r in rho[:, c]:
-            if r <= 0.0:
-                break
-            total += r
-        out[c] = 1.0 + 2.0 * total
-    return np.clip(out, 1.0, 10.0)
-
 
 @dataclass
 class SmootherResult:
@@ -152,12 +133,11 @@ class WindSmoother:
     model: HeliModel; pre: Prefiltered flight; prior: WindPrior (the start; a copy is
     learned); noise_std: (6,) channel noise to start from (default: 5 % of each filtered
     channel's std, floored at 0.01); iterations: passes; relinearise: how many of them
-    relinearise the model; learn: which of "sigma", "tau", "mean_walk", "noise" the EM
-    updates."""
+    relinearise the model; learn: which of "sigma", "noise" the EM updates."""
 
     def __init__(self, model, pre: Prefiltered, prior: WindPrior, noise_std=None,
                  iterations: int = ITERATIONS, relinearise: int = RELINEARISE,
-                 learn=LEARN_DEFAULT, source_data=None) -> None:
+                 learn=LEARN, source_data=None) -> None:
         if iterations < 1:
             raise ValueError(f"iterations = {iterations!r}: must be >= 1")
         unknown = set(learn) - set(LEARN)
@@ -187,7 +167,6 @@ class WindSmoother:
             raise ValueError("the model's rotor dynamics cannot be linearised at this "
                              "flight's median state (non-finite or singular Jacobian)")
         self.evaluations = 0
-        self.correlation_time = np.ones(6)
 
     # -- model evaluations ------------------------------------------------------------
     def _jacobian_rows(self, x_body, u, env_row, h, w):
@@ -317,7 +296,7 @@ class WindSmoother:
 
     # -- one pass over one run ------------------------------------------------------
     def _forward(self, run: slice, prior: WindPrior, r_diag: np.ndarray, lin: _Lin | None,
-                 online: bool) -> tuple[_Pass, _Lin]:
+                 online: bool, wind0=None) -> tuple[_Pass, _Lin]:
         m, n_s = self.m, self.n_state
         d = self.pre.data
         idx = np.arange(run.start, run.stop)
@@ -331,7 +310,7 @@ class WindSmoother:
             lin = _Lin(np.zeros((n, n_s)), np.zeros((n, m)), np.zeros((n, m, m + 6)),
                        np.zeros((n, n_s)), np.zeros((n, 6)), np.zeros((n, 6, m + 6)))
         qc = np.concatenate([np.zeros(m), prior.diffusion()])
-        s, p = self._initial(idx[0], prior)
+        s, p = self._initial(idx[0], prior, wind0)
         r = np.diag(r_diag)
         eye = np.eye(n_s)
         loglik = 0.0
@@ -396,13 +375,11 @@ class WindSmoother:
         s00 = np.zeros(6)
         s11 = np.zeros(6)
         s10 = np.zeros(6)
-        dmu = np.zeros(6)
         pairs = 0
         dts = []
         res2 = np.zeros(6)
         count = 0
-        lags = np.zeros((CORRELATION_LAGS + 1, 6))
-        xi, mu = self.xi, self.mu
+        xi = self.xi
         for run, ps, lin in passes:
             ms, pss, cs = ps.ms, ps.ps, ps.cs
             n = ms.shape[0]
@@ -412,40 +389,22 @@ class WindSmoother:
                 s11 += np.sum(ms[1:, xi] ** 2 + diag_p[1:, xi], 0)
                 s00 += np.sum(ms[:-1, xi] ** 2 + diag_p[:-1, xi], 0)
                 s10 += np.sum(ms[1:, xi] * ms[:-1, xi] + diag_c[1:, xi], 0)
-                dm = ms[1:, mu] - ms[:-1, mu]
-                dmu += np.sum(dm * dm + diag_p[1:, mu] + diag_p[:-1, mu] - 2.0 * diag_c[1:, mu], 0)
                 pairs += n - 1
                 dts.append(np.diff(d.t[run]))
-            e_run = np.empty((n, 6))
             for j in range(n):
                 h_mat = self._h_matrix(lin.jz[j])
-                zhat = lin.z0[j] + h_mat @ (ms[j] - lin.mp[j])
-                e = d.z[run.start + j] - zhat
-                e_run[j] = e
+                e = d.z[run.start + j] - (lin.z0[j] + h_mat @ (ms[j] - lin.mp[j]))
                 res2 += e * e + np.einsum("ij,jk,ik->i", h_mat, pss[j], h_mat)
             count += n
-            for lag in range(min(CORRELATION_LAGS, n - 1) + 1):
-                lags[lag] += np.sum(e_run[lag:] * e_run[:n - lag], 0)
         new = prior.copy()
-        if pairs > 0:
+        if pairs > 0 and "sigma" in self.learn:
             dt = float(np.mean(np.concatenate(dts)))
-            a_lo, a_hi = np.exp(-dt / TAU_BOUNDS_S[0]), np.exp(-dt / TAU_BOUNDS_S[1])
-            if "tau" in self.learn:
-                a = np.clip(s10 / np.maximum(s00, 1e-300), a_lo, a_hi)
-            else:
-                a = np.exp(-dt / prior.tau_s)
+            a = np.exp(-dt / prior.tau_s)  # tau from physics (wind_prior), sigma learned
             q = np.maximum((s11 - 2.0 * a * s10 + a * a * s00) / pairs, 0.0)
-            if "tau" in self.learn:
-                new.tau_s = -dt / np.log(a)
-            if "sigma" in self.learn:
-                new.sigma = np.maximum(np.sqrt(q / (1.0 - a * a)), SIGMA_FLOOR)
-            if "mean_walk" in self.learn:
-                new.mean_walk = np.maximum(np.sqrt(np.maximum(dmu / pairs, 0.0) / dt),
-                                           MEAN_WALK_FLOOR)
+            new.sigma = np.maximum(np.sqrt(q / (1.0 - a * a)), SIGMA_FLOOR)
         new_r = r_diag
         if "noise" in self.learn and count > 0:
             new_r = np.maximum(res2 / count, NOISE_FLOOR**2)
-            self.correlation_time = _integrated_correlation(lags)
         return new, new_r
 
     # -- the whole flight -----------------------------------------------------------
@@ -474,8 +433,7 @@ class WindSmoother:
                 loglik = float(sum(ps.loglik for _, ps, _ in passes))
                 history.append({"pass": it + 1, "relinearised": relin,
                                 "log_likelihood": loglik, "prior": prior.to_dict(),
-                                "noise_std": np.sqrt(r_diag).tolist(),
-                                "correlation_time": self.correlation_time.tolist()})
+                                "noise_std": np.sqrt(r_diag).tolist()})
                 if progress is not None:
                     progress.update(it + 1, f"log-likelihood {loglik:.5g}")
                 if it < self.iterations - 1:
@@ -536,7 +494,8 @@ class WindSmoother:
                         point[self.xi] = 0.0
                     lin.mp[j] = point
                     lin.z0[j], lin.jz[j] = self._measurement_lin(k, point)
-                ps, _ = self._forward(run, prior, r_diag, lin, online=False)
+                ps, _ = self._forward(run, prior, r_diag, lin, online=False,
+                                      wind0=wind[idx[0]])
                 self._backward(ps)
                 out[run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
         return out

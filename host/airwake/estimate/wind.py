@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from airwake.estimate.prefilter import CUTOFF_HZ, RATE_HZ
 from airwake.heli.model import WIND_NAMES
 from airwake.record.flight_table import TRUTH_WIND
 
@@ -51,6 +52,9 @@ METHODS = ("smoother", "apf")
 # over the ground, so the INS velocity error goes one to one into v (not into w).
 INS_VELOCITY_STD_M_S = 0.05
 APF_RATE_HZ = 30.0
+# what a model that does not fly a flight raises (a plugin's own error, a singular rotor)
+MODEL_FAILURES = (ArithmeticError, ValueError, RuntimeError, TypeError, KeyError,
+                  IndexError, np.linalg.LinAlgError)
 
 
 def estimate_wind(flight, model="table52", method: str = "smoother", *,
@@ -97,14 +101,14 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),
     }
     smoother = result = None
+    cutoff = CUTOFF_HZ if cutoff_hz is None else cutoff_hz
     if method == "smoother":
         df, extra, seconds, smoother, result = _run_smoother(
-            heli, data, 6.0 if cutoff_hz is None else cutoff_hz,
-            15.0 if rate_hz is None else rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
-            progress)
+            heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
+            airspeed_m_s, ins_velocity_std, progress)
     else:
         df, extra, seconds = _run_apf(
-            heli, data, 6.0 if cutoff_hz is None else cutoff_hz,
+            heli, data, cutoff,
             APF_RATE_HZ if rate_hz is None else rate_hz, ins_velocity_std, n_particles,
             sigma, resampler, ess_threshold, jitter, seed, process_std, init_half_width,
             channel_scale, steps, progress)
@@ -171,12 +175,12 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
     passes = ITERATIONS if em_passes is None else int(em_passes)
     try:
         sm = WindSmoother(heli, pre, prior, iterations=passes, source_data=data)
-    except ValueError as exc:
+    except MODEL_FAILURES as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
     try:
         res = sm.run(bar)
-    except (ArithmeticError, ValueError, RuntimeError, TypeError, np.linalg.LinAlgError) as exc:
+    except MODEL_FAILURES as exc:
         # a model that does not fly this flight (a plugin that raises, a singular rotor)
         raise WindEstimationError(f"{data.source}: the model failed on this flight: "
                                   f"{type(exc).__name__}: {exc}") from None
@@ -228,12 +232,16 @@ def _run_apf(heli, data, cutoff_hz, rate_hz, ins_velocity_std, n_particles, sigm
                                   INIT_HALF_WIDTH if init_half_width is None else init_half_width)
         pf = ParticleFilter(wm, n_particles, sigma, RESAMPLERS[resampler], ess_threshold,
                             jitter, np.random.default_rng(seed))
-    except ValueError as exc:
+    except MODEL_FAILURES as exc:
         raise WindEstimationError(str(exc)) from None
     n = wm.n_steps if steps is None else min(steps, wm.n_steps)
     bar = Progress("wind estimate (apf)", n, " samples", enabled=progress)
     t0 = time.perf_counter()
-    out = pf.run(n, bar)
+    try:
+        out = pf.run(n, bar)
+    except MODEL_FAILURES as exc:
+        raise WindEstimationError(f"{data.source}: the model failed on this flight: "
+                                  f"{type(exc).__name__}: {exc}") from None
     seconds = time.perf_counter() - t0
     span = float(data.t[n - 1] - data.t[0]) if n > 1 else 0.0
     bar.finish(f"{span / max(seconds, 1e-9):.2f} x real time")
@@ -250,10 +258,12 @@ def _run_apf(heli, data, cutoff_hz, rate_hz, ins_velocity_std, n_particles, sigm
 
 
 def _rotor_radius(heli) -> float:
-    try:
-        return float(heli["main_rotor"].parameters()["radius_m"])
-    except KeyError:
-        return 0.67
+    from airwake.estimate.errors import WindEstimationError
+
+    if "main_rotor" not in heli:
+        raise WindEstimationError(f"model {heli.effect_names} has no main_rotor: the wind "
+                                  "estimate reads the wind through the rotor")
+    return float(heli["main_rotor"].parameters()["radius_m"])
 
 
 def check_output(path):
@@ -363,7 +373,7 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
         err = data.z - np.column_stack([np.asarray(flight_df[c], float) for c in truth_ch])
         noisy = prefilter(dataclasses.replace(data, z=err), sm.model, pre.cutoff_hz,
                           pre.rate_hz)
-        noise = np.std(noisy.data.z, axis=0)
+        noise = np.sqrt(np.mean(noisy.data.z**2, axis=0))
         wind = truth_at(est.df, flight_df)
     else:
         noise = res.noise_std

@@ -17,7 +17,8 @@ says so. The mean keeps its own slow walk so that a non-zero mean (the 1 m/s hea
 ship flight, a swirl's mean rotation) stays estimable rather than shrunk to zero.
 
 Defaults from physics, then from the flight itself (`airwake.estimate.smoother` refits
-sigma, tau and q_mu to each flight by expectation-maximisation, Shumway & Stoffer 1982):
+sigma to each flight by expectation-maximisation, Shumway & Stoffer 1982; tau and q_mu
+stay as set here):
 
 - tau from Taylor's frozen turbulence: eddies of size L carried past the rotor at the
   airspeed U decorrelate in L/U. The mean-flow components average the flow over the rotor

@@ -29,7 +29,8 @@ Output (docs/flight-table.md): one row per rover INS sample (150 Hz), columns
 - ship (base INS): `ship_pos_n/e/d_m`, `ship_roll/pitch/yaw_rad`, `ship_speed_m_s`,
   `ship_vel_n/e/d_m_s`; with the RTK baseline and the base antenna's place on the ship
   (`base_antenna_ship_xy_m`) the hub in the ship frame, `hub_ship_x/y/z_m` = R_ship^T
-  (baseline + R(att) r_antenna->hub) + (x_b, y_b, -h_b);
+  (baseline + R(att) r_antenna->hub) + (x_b, y_b, -h_b), and `hub_ship_valid` where both
+  the baseline and the base INS really had samples;
 - tracker (LOSA peaks triangulated): `tracker_pos_x/y/z_m`;
 - anemometer (marker): `anemo_u/v/w_m_s`, `anemo_temp_c`.
 
@@ -347,6 +348,7 @@ def build_flight_table(streams: Mapping[str, MessageTable],
             height = np.where(rel_ok, h, np.inf)
             height_source = "rtk_baseline"
             hub_from_base = rel + lever  # base antenna -> rotor hub, NED
+            hub_ok = rel_ok
         fix = hold_previous(tb_all, fix_all, t) if tb_all.size else np.zeros(t.size)
         fix = np.where(coverage(tb_all, t, gap[RTK_BASELINE]), fix, 0)
         cols["rtk_fix"] = fix.astype(float)
@@ -402,7 +404,9 @@ def build_flight_table(streams: Mapping[str, MessageTable],
                 hub = np.einsum("nji,nj->ni", ship_dcm, hub_from_base)
                 xb, yb = (float(v) for v in cfg.base_antenna_ship_xy_m)
                 cols.update({"hub_ship_x_m": hub[:, 0] + xb, "hub_ship_y_m": hub[:, 1] + yb,
-                             "hub_ship_z_m": hub[:, 2] - cfg.base_antenna_height_above_deck_m})
+                             "hub_ship_z_m": hub[:, 2] - cfg.base_antenna_height_above_deck_m,
+                             "hub_ship_valid": (hub_ok & (cols["ship_valid"] > 0.5))
+                             .astype(float)})
 
     an = streams.get(ANEMOMETER)
     if an is not None and len(an):
