@@ -58,8 +58,11 @@ test: setup test-c test-py
 test-c: apt
 	$(MAKE) -C firmware test
 
+# the wall-clock tests (real daemons and boards timed in real time) run alone after the
+# parallel suite: beside CPU-heavy tests on the other worker their timing assertions starve
 test-py: venv native
-	$(PY) -m pytest $(PYTEST_ARGS)
+	$(PY) -m pytest $(PYTEST_ARGS) -m "not wall_clock"
+	$(PY) -m pytest -m wall_clock
 
 firmware: apt
 	$(MAKE) -C firmware teensy32

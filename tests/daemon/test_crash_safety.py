@@ -13,6 +13,10 @@ from airwake.daemon.fake_boards import FakeBoard
 from airwake.record.reader import open_recording, recover_recording
 from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
+# timed against the wall clock with real processes: `make test` runs these alone, after
+# the parallel suite, so CPU-heavy tests on the other worker cannot starve them
+pytestmark = pytest.mark.wall_clock
+
 ROLES = ["losa", "marker", "base"]
 
 
