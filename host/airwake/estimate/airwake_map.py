@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -82,7 +82,6 @@ class MapSamples:
     ins_std: float
     dt: float
     u_ref: float
-    heading: np.ndarray = field(default=None)  # ship heading per sample (ship frame)
 
 
 def _rz(psi: np.ndarray) -> np.ndarray:
@@ -204,7 +203,6 @@ def map_samples(wind_df, flight_df, ins_std: float = 0.05,
         full = np.einsum("nij,njk->nik", r_to, rot_b)
     else:
         pos = np.column_stack([at(c) for c in SITE_POSITION])
-        heading = None
         flow, rot, full = v_ned, w_ned, rot_b
     # std of a rotated vector: Var_i = sum_j R_ij^2 Var_j (components taken independent)
     flow_std = np.sqrt(np.einsum("nij,nj->ni", full**2, s_v**2))
@@ -215,7 +213,7 @@ def map_samples(wind_df, flight_df, ins_std: float = 0.05,
     if not (np.isfinite(u_ref) and u_ref > 0):
         raise WindEstimationError(f"reference speed {u_ref!r}: must be a positive number")
     return MapSamples(t, pos, flow, flow_std, rot, rot_std, frame, float(ins_std), dt,
-                      float(u_ref), heading)
+                      float(u_ref))
 
 
 def cell_index(pos: np.ndarray, cell_m: float, layer_m: float) -> np.ndarray:

@@ -81,7 +81,7 @@ LOG_2PI = float(np.log(2.0 * np.pi))
 @dataclass
 class SmootherResult:
     """Per kept sample (n): t; mean, std (n, 6) smoothed wind; filtered_mean,
-    filtered_std (n, 6) the forward (causal) pass; mean_flow (n, 6) the smoothed mu part.
+    filtered_std (n, 6) the forward (causal) pass.
     prior (learned), noise_std (6,), history (per pass: log-likelihood, prior, noise),
     seconds, evaluations (model rows)."""
 
@@ -90,7 +90,6 @@ class SmootherResult:
     std: np.ndarray
     filtered_mean: np.ndarray
     filtered_std: np.ndarray
-    mean_flow: np.ndarray
     prior: WindPrior
     noise_std: np.ndarray
     history: list = field(default_factory=list)
@@ -502,14 +501,13 @@ class WindSmoother:
 
     def _result(self, passes, prior, noise_std, history, seconds) -> SmootherResult:
         n = self.pre.data.t.size
-        out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs", "mu")}
+        out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs")}
         c = self._wind_rows()
         for run, ps, _ in passes:
             out["mean"][run] = ps.ms @ c.T
             out["std"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
             out["fm"][run] = ps.mf @ c.T
             out["fs"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.pf, c), 0))
-            out["mu"][run] = ps.ms[:, self.mu]
         return SmootherResult(self.pre.data.t.copy(), out["mean"], out["std"], out["fm"],
-                              out["fs"], out["mu"], prior, noise_std, history, seconds,
+                              out["fs"], prior, noise_std, history, seconds,
                               self.evaluations)
