@@ -5,8 +5,8 @@ round-trips through a spec by name, and changes the channels its physics says.""
 import numpy as np
 import pytest
 from airwake.discrepancy.candidates import CANDIDATES, effect_with
-from airwake.discrepancy.effects import CATALOGUE_EFFECTS
 from airwake.heli import load_spec, save_spec
+from airwake.heli.effects.catalogue import CATALOGUE_EFFECTS
 from airwake.heli.trim import trim_hover
 
 BASE = load_spec("table52")

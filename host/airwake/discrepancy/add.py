@@ -62,7 +62,6 @@ class AddResult:
 
 def load_model(spec):
     """A HeliModel from a spec path / shipped name (catalogue effects resolvable)."""
-    import airwake.discrepancy.effects  # noqa: F401 — catalogue effects by name
     from airwake.heli import HeliModel, load_spec
 
     if isinstance(spec, HeliModel):
@@ -107,7 +106,6 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                settings: AnalysisSettings | None = None, analysis: Analysis | None = None,
                max_nfev: int = 30, name: str = "", progress=None) -> AddResult:
     """Enable `effect`, fit it (and `retune`) on `flight`, write `out` (module docstring)."""
-    import airwake.discrepancy.effects  # noqa: F401
     from airwake.heli.effects.base import EffectError, effect_class
 
     settings = settings or AnalysisSettings()

@@ -1,6 +1,6 @@
 """The catalogue as the diagnosis sees it: how to screen, fit and explain each effect.
 
-A `Candidate` names a registered catalogue effect (`airwake.discrepancy.effects`) and says
+A `Candidate` names a registered catalogue effect (`airwake.heli.effects.catalogue`) and says
 
 - `screen`: the parameters whose first-order sensitivities d z_hat / d theta are the
   candidate's regressors, each with the step of a forward difference taken from "off"
@@ -135,7 +135,6 @@ def candidate(name: str) -> Candidate | None:
 
 def effect_with(name: str, values: dict):
     """An instance of the registered effect `name` with `values` (others default)."""
-    import airwake.discrepancy.effects  # noqa: F401 — registers the catalogue
     from airwake.heli.effects.base import effect_class
 
     return effect_class(name)(**values)

@@ -191,7 +191,6 @@ def _compare(args) -> int:
 
 
 def _diagnose(args) -> int:
-    import airwake.discrepancy.effects  # noqa: F401
     from airwake.discrepancy import where
     from airwake.discrepancy.add import load_model
     from airwake.discrepancy.candidates import CANDIDATES

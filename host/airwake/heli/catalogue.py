@@ -20,9 +20,6 @@ def _fmt(v: float) -> str:
 
 
 def render_markdown() -> str:
-    from airwake.heli.effects.base import load_catalogue
-
-    load_catalogue()  # the discrepancy catalogue's effects are documented here too
     out = [PREAMBLE.rstrip().removesuffix("## Effects").rstrip() + "\n", _quantities(),
            "## Effects\n"]
     for name in registered_effects():

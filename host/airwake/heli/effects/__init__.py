@@ -1,4 +1,5 @@
-"""The effect registry and the package's own effects (imported here so they register)."""
+"""The effect registry, the base model's effects and the catalogue (`catalogue/`), all
+imported here so they register: any import of `airwake.heli` knows every effect name."""
 
 from airwake.heli.effects.atmosphere import Atmosphere
 from airwake.heli.effects.base import (
@@ -23,9 +24,14 @@ from airwake.heli.effects.pitt_peters_inflow import PittPetersInflow
 from airwake.heli.effects.rigid_body import RigidBody
 from airwake.heli.effects.tail_rotor import TailRotor
 
+# isort: split
+# the catalogue after the base model's effects: the registry (and docs/effects.md) lists
+# the base model first
+from airwake.heli.effects.catalogue import CATALOGUE_EFFECTS
+
 __all__ = [
     "STAGES", "Effect", "EffectError", "Parameter", "State", "effect_class", "effect_info",
     "effect_source", "register_effect", "registered_effects", "unregister_effect",
     "Atmosphere", "Empennage", "Flybar", "Fuselage", "Gravity", "MainRotor",
-    "PittPetersInflow", "RigidBody", "TailRotor",
+    "PittPetersInflow", "RigidBody", "TailRotor", "CATALOGUE_EFFECTS",
 ]

@@ -147,21 +147,11 @@ def effect_source(name: str) -> str | None:
 
 
 def effect_class(name: str) -> type:
-    if name not in _REGISTRY:
-        load_catalogue()
     try:
         return _REGISTRY[name].cls
     except KeyError:
         known = ", ".join(sorted(_REGISTRY))
         raise EffectError(f"unknown effect {name!r}; registered effects: {known}") from None
-
-
-def load_catalogue() -> None:
-    """Register the discrepancy catalogue's effects (ground_effect, servo_lag, ...), so a
-    spec can name them; imported lazily to keep the model free of the analysis package."""
-    import importlib
-
-    importlib.import_module("airwake.discrepancy.effects")
 
 
 class Effect:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-from airwake.discrepancy.effects._util import height, rotor_radius, smooth_fade
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.effects.catalogue._util import height, rotor_radius, smooth_fade
 from airwake.heli.kernel import Q, kernel
 
 

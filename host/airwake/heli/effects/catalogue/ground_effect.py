@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from airwake.discrepancy.effects._util import height, rotor_radius, smooth_fade
 from airwake.heli.effects.base import Effect, Parameter, register_effect
+from airwake.heli.effects.catalogue._util import height, rotor_radius, smooth_fade
 from airwake.heli.kernel import Q, kernel
 
 _LAMBDA_FLOOR = 1e-3  # |lambda_0| floor in the forward-flight correction

@@ -1,5 +1,6 @@
-"""The discrepancy catalogue: physical effects the baseline model lacks, registered in the
-helicopter model's effect registry so specs can name them (`airwake model add NAME`).
+"""The catalogue: physical effects the baseline model (Table 5.1/5.2) lacks. They are
+registered with the package's own effects when `airwake.heli.effects` is imported, so a
+spec can name them and `airwake model add NAME` can fit them.
 
     ground_effect        inflow        Cheeseman-Bennett image, faded above ~1 diameter
     imu_lever_arm        measurement   a_IMU = a_CG + w_dot x r + w x (w x r)
@@ -13,19 +14,19 @@ helicopter model's effect registry so specs can name them (`airwake model add NA
     fuselage_drag_error  forces        extra drag areas at a centre of pressure
 
 Each effect is "off" at its documented parameter values (or when absent); the
-diagnosis (`airwake.discrepancy.candidates`) knows how to screen and fit each.
+discrepancy workflow (`airwake model diagnose`) knows how to screen and fit each.
 """
 
-from airwake.discrepancy.effects.accel_bias import AccelBias
-from airwake.discrepancy.effects.accel_misalignment import AccelMisalignment
-from airwake.discrepancy.effects.cg_offset import CgOffset
-from airwake.discrepancy.effects.dynamic_inflow import DynamicInflow
-from airwake.discrepancy.effects.fuselage_drag_error import FuselageDragError
-from airwake.discrepancy.effects.ground_effect import GroundEffect
-from airwake.discrepancy.effects.imu_lever_arm import ImuLeverArm
-from airwake.discrepancy.effects.rotor_droop import RotorDroop
-from airwake.discrepancy.effects.servo_lag import ServoLag
-from airwake.discrepancy.effects.wake_recirculation import WakeRecirculation
+from airwake.heli.effects.catalogue.accel_bias import AccelBias
+from airwake.heli.effects.catalogue.accel_misalignment import AccelMisalignment
+from airwake.heli.effects.catalogue.cg_offset import CgOffset
+from airwake.heli.effects.catalogue.dynamic_inflow import DynamicInflow
+from airwake.heli.effects.catalogue.fuselage_drag_error import FuselageDragError
+from airwake.heli.effects.catalogue.ground_effect import GroundEffect
+from airwake.heli.effects.catalogue.imu_lever_arm import ImuLeverArm
+from airwake.heli.effects.catalogue.rotor_droop import RotorDroop
+from airwake.heli.effects.catalogue.servo_lag import ServoLag
+from airwake.heli.effects.catalogue.wake_recirculation import WakeRecirculation
 
 CATALOGUE_EFFECTS = (
     GroundEffect, ImuLeverArm, ServoLag, RotorDroop, DynamicInflow, WakeRecirculation,
