@@ -32,7 +32,8 @@ def _once(tmp_path_factory, name: str, make):
 def wind_baseline(tmp_path_factory):
     """The documented calibration (docs/calibration.md, docs/wind-estimation.md): the
     still-air calibration flight, `airwake calibrate` from Table 5.2 on 24 windows."""
-    from airwake.calibrate import calibrate, write_spec
+    from airwake.calibrate import calibrate
+    from airwake.heli import save_spec
 
     def make(path):
         flight = _once(tmp_path_factory, "still_air_calibration.parquet",
@@ -40,7 +41,8 @@ def wind_baseline(tmp_path_factory):
         res = calibrate(flight, model="table52", max_windows=24)
         from airwake.calibrate.commands import calibration_table
 
-        write_spec(res.model, path, "test baseline", calibration_table(res, flight, "table52"))
+        save_spec(res.model, path, description="test baseline",
+                  calibration=calibration_table(res, flight, "table52"))
 
     return _once(tmp_path_factory, "baseline.toml", make)
 

@@ -12,9 +12,13 @@ Integration: fixed-step classical RK4 at `scenario.rate_hz` (>= 1 kHz) of the tr
 `HeliModel` (host effects + hidden effects). Per step: the pilot's command (first-order
 hold between RC frames, delayed by the servo-lag scenario's pure delay) and the eq 5.3
 local wind at the hub (`HeldLocalWind`, refreshed at `wind_rate_hz`, zero-order hold)
-are held over the step; the height above ground/deck goes to the model's environment.
+are held over the step; the height above ground/deck goes to the model's environment
+(on a ship with the deck-edge ground effect: the disk-averaged ground-plane height).
 The first RK4 stage is a full `evaluate`, whose measurement (specific force at the CG,
-angular accelerations) is the truth the IMU senses.
+angular accelerations) is the truth the IMU senses. Sensor-side hidden effects: the
+lever arm (`Trajectory.at_point`), the accelerometers' vibration rectification (added to
+the IMU point's specific force) and the pilot-input stream's time skew (the RC receiver
+records the command of t + offset).
 
 Random numbers: one `SeedSequence(seed)` spawns a fixed child per consumer (wind,
 pilot, each device), so a seed gives the same flight and switching a device on or off
@@ -29,12 +33,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from airwake.errors import AirwakeError
+from airwake.heli import Stepper
 
 from hil_sim.sensors.rc import RcReceiver, TailServoPwm
 from hil_sim.sensors.rotor import RotorTachometer
 from hil_sim.sensors.rtk import RtkReceiver
 from hil_sim.sensors.streams import sample_times
 from hil_sim.sensors.vn200 import Vn200
+from hil_sim.world.hidden import HEIGHT_EFFECTS, ElectricDriveGovernor, SecondOrderServo
+from hil_sim.world.hidden.ground_effect import DISK_POINTS, deck_height_equivalent
+from hil_sim.world.hidden.sensor_side import skewed_commands, with_rectification
 from hil_sim.world.kinematics import (
     Trajectory,
     euler_to_dcm,
@@ -167,64 +175,31 @@ class SimResult:
 # ---------------------------------------------------------------------------
 
 
-class TruthStepper:
-    """Fixed-step classical RK4 of one truth state, inputs/wind/height held over the step
-    (the caller passes the inputs at the step's midpoint).
+class TruthStepper(Stepper):
+    """The heli `Stepper` of the truth model (fixed-step classical RK4, inputs, wind and
+    height held over the step; the caller passes the inputs at the step's midpoint), plus
+    the rotor speed the truth flies at:
 
         x_next = stepper.step(x, u, w, h, dt)
         xdot, meas, omega = stepper.evaluate(x, u, w, h)
 
     x (S,), u (4,), w (6,) eq 5.3 hub wind, h the hub height above ground/deck (m).
     `meas` (6,) is the model's measurement (specific force at the CG, angular
-    accelerations) and `omega` the rotor speed it used, at (x, u). For a model made only
-    of compiled kernel effects (the host's and the hidden ones) a step is one call of the
-    composition's compiled RK4 (`model.compiled.fns.rk4_rows`); otherwise four numpy
-    evaluations."""
-
-    def __init__(self, model) -> None:
-        self.model = model
-        self._fast = bool(getattr(model, "is_compiled", False))
-        if self._fast:
-            self._rk4 = model.compiled.fns.rk4_rows
-            self._x = np.empty((1, model.n_states))
-            self._u = np.empty((1, 4))
-            self._w = np.empty((1, 6))
-            self._h = np.empty(1)
-            self._om = np.full(1, np.nan)
-            self._p = np.ascontiguousarray(model.parameter_vector()[None, :])
-            self._out = np.empty((1, model.n_states))
+    accelerations) and `omega` the rotor speed it used, at (x, u). The truth model is
+    all compiled kernels (the host's effects and the hidden ones), so a step is one
+    compiled call; a scenario spec with a numpy plugin steps through numpy RK4 in heli."""
 
     def evaluate(self, x, u, w, h):
-        xdot, meas = self.model.rates_and_measurement(x[None], u[None], w[None],
-                                                      {"height_agl_m": np.array([h])})
-        return xdot[0], meas[0], rotor_speed_of(self.model, x[None])[0]
-
-    def derivatives(self, x, u, w, h):
-        return self.model.derivatives(x[None], u[None], w[None],
-                                      {"height_agl_m": np.array([h])})[0]
-
-    def step(self, x, u, w, h, dt):
-        if self._fast:
-            self._x[0] = x
-            self._u[0] = u
-            self._w[0] = w
-            self._h[0] = h
-            self._rk4(1, self._x, 1, self._u, 1, self._w, 1, self._h, 1, self._om, 1,
-                      self._p, 1, dt, self._out)
-            return self._out[0].copy()
-        k1 = self.derivatives(x, u, w, h)
-        k2 = self.derivatives(x + 0.5 * dt * k1, u, w, h)
-        k3 = self.derivatives(x + 0.5 * dt * k2, u, w, h)
-        k4 = self.derivatives(x + dt * k3, u, w, h)
-        return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        xdot, meas = self.rates_and_measurement(x, u, w, h)
+        return xdot, meas, rotor_speed_of(self.model, x[None])[0]
 
 
 def rotor_speed_of(model, xs: np.ndarray) -> np.ndarray:
     """(N,) rotor speed the truth model flies at states xs (N, S): the governor's state
     when the droop effect is on, else the main rotor's nominal speed (no measured speed
     is fed to the truth)."""
-    if "hil_rotor_governor" in model:
-        return xs[:, model.state_slice("hil_rotor_governor").start].copy()
+    if ElectricDriveGovernor.name in model:
+        return xs[:, model.state_slice(ElectricDriveGovernor.name).start].copy()
     if "main_rotor" not in model:
         return np.zeros(xs.shape[0])
     nominal = model["main_rotor"].parameters()["nominal_speed_rad_s"]
@@ -240,7 +215,6 @@ def batch_measurement(model, xs, us, ws, hs, chunk: int = 20000) -> np.ndarray:
     return out
 
 
-HEIGHT_EFFECTS = ("hil_ground_effect", "hil_wake_recirculation")
 WIND_LOOKAHEAD_S = 0.1
 
 
@@ -290,11 +264,28 @@ class WindLookahead:
         self._k0 = k
 
 
-def _height_function(scenario: Scenario, ship: Ship | None):
-    """Hub height above the ground / deck / sea for (t, hub NED)."""
+def _height_function(scenario: Scenario, ship: Ship | None, radius_m: float):
+    """(t, hub NED (3,), body->NED rotation (3, 3)) -> (hub height above the ground / deck /
+    hangar roof / sea, the ground-plane height the rotor's hidden ground effects see).
+    They differ only on a ship with the ground effect's `deck_edge`: there the second is
+    Hayden's equivalent height of the disk-averaged reduction, each part of the disk over
+    whatever is under it (`hidden.ground_effect.deck_height_equivalent`)."""
     if ship is None:
-        return lambda t, hub: -float(hub[2])
-    return lambda t, hub: float(ship.height_above_surface(t, hub[None])[0])
+        def flat(t, hub, rot):
+            return -float(hub[2]), -float(hub[2])
+        return flat
+    ge = scenario.hidden.enabled().get("ground_effect")
+    if ge is None or not ge.deck_edge:
+        def surface(t, hub, rot):
+            h = float(ship.height_above_surface(t, hub[None])[0])
+            return h, h
+        return surface
+    disk = np.column_stack([DISK_POINTS * radius_m, np.zeros(len(DISK_POINTS))])
+
+    def deck(t, hub, rot):
+        hs = ship.height_above_surface(t, hub + disk @ rot.T)  # DISK_POINTS[0]: the hub
+        return float(hs[0]), deck_height_equivalent(hs, radius_m, ge)
+    return deck
 
 
 def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float | None = None,
@@ -324,7 +315,7 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     ship = Ship(scenario.ship) if scenario.ship is not None else None
     field_ = build_wind_field(scenario.wind, rng=rngs["wind"], ship=ship)
     frame = PlanFrame(scenario.pilot.frame, ship)
-    height_of = _height_function(scenario, ship)
+    height_of = _height_function(scenario, ship, truth.rotor_radius_m)
     hub_off = truth.hub_offset_body_m
     body = model.state_slice(BODY)
     b = body.start
@@ -340,7 +331,7 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     hub0 = p0_ned + level @ hub_off
     w0 = field_.local_wind(0.0, hub0, euler_to_quat(np.array([0.0, 0.0, yaw0])),
                            unsteady=False, turbulence=False)
-    h0 = height_of(0.0, hub0)
+    h0 = height_of(0.0, hub0, level)[1]
     tr = truth.trim(v0_body, yaw_rad=yaw0, wind=w0, height_agl_m=h0)
     x = tr.x.copy()
     x[b:b + 3] = p0_ned
@@ -356,12 +347,13 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     x_lin[b + 8] = 0.0
     lin_trim = type(tr)(x_lin, tr.u, tr.residual, tr.iterations)
     env0 = {"height_agl_m": np.array([h0])}
-    pilot = Pilot(model, lin_trim, ref, pc.gains, body_slice=body, wind=w0, env=env0)
+    pilot = Pilot(truth.linear_model(), lin_trim, ref, pc.gains, body_slice=body, wind=w0, env=env0)
     pilot.trim = type(tr)(tr.x.copy(), tr.u, tr.residual, tr.iterations)
     ref_pos_ned, ref_vel_ned = frame.to_ned(knots, ref.pos_m, ref.vel_m_s)
     lag = scenario.hidden.enabled().get("servo_lag")
     delay = lag.delay_s if lag is not None else 0.0
-    lag_slice = model.state_slice("hil_servo_lag") if "hil_servo_lag" in model else None
+    servo = SecondOrderServo.name
+    lag_slice = model.state_slice(servo) if servo in model else None
 
     # -- integrate --------------------------------------------------------------------
     steps = int(round(duration * rate))
@@ -372,6 +364,8 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     used = np.empty((n, 4))
     winds = np.empty((n, 6))
     heights = np.empty(n)
+    ground_heights = np.empty(n)  # what the model's ground effects saw (= heights but on
+    # a ship with the deck-edge ground effect)
     knot = 0
     n_knots = knots.size
     stepper = TruthStepper(model)
@@ -398,23 +392,24 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
         if not static_wind:
             w = wind(t, x)
         if ship is None:
-            h = -hub_d
+            h = h_ground = -hub_d
         elif need_height:
             rot = euler_to_dcm(x[b + 6:b + 9])
-            h = height_of(t, x[b:b + 3] + rot @ hub_off)
+            h, h_ground = height_of(t, x[b:b + 3] + rot @ hub_off, rot)
         else:
-            h = np.inf  # nothing in the model reads it; recorded exactly below
+            h = h_ground = np.inf  # nothing in the model reads it; recorded exactly below
         xs[i] = x
         cmds[i] = u if not delay else pilot.command(t)
         used[i] = u
         winds[i] = w
         heights[i] = h
+        ground_heights[i] = h_ground
         if i == steps:
             break
         # the command at the step's midpoint: held over the step, it is exact to first order
         # for the pilot's first-order hold (held at the step's start, the blades would
         # lag the recorded commands by dt/2, which the analysis reads as a servo lag)
-        x = stepper.step(x, pilot.command(t + 0.5 * dt - delay), w, h, dt)
+        x = stepper.step(x, pilot.command(t + 0.5 * dt - delay), w, h_ground, dt)
         if i % 100 == 0:
             if not np.all(np.isfinite(x)) or np.max(np.abs(x[b + 9:b + 12])) > \
                     DIVERGED_RATE_RAD_S or abs(x[b + 7]) > 1.3:
@@ -424,7 +419,7 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
                     f"attitude {np.round(np.degrees(x[b + 6:b + 9]), 1).tolist()} deg)")
             if progress is not None and i % report_every == 0:
                 progress.update(t)
-    meas = batch_measurement(model, xs, used, winds, heights)
+    meas = batch_measurement(model, xs, used, winds, ground_heights)
     omega = rotor_speed_of(model, xs)
     t_integrated = time.perf_counter()
     ts = np.arange(n) * dt
@@ -432,7 +427,8 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
         hubs = xs[:, b:b + 3] + np.einsum("nij,j->ni", euler_to_dcm(xs[:, b + 6:b + 9]),
                                           hub_off)
         heights = ship.height_above_surface(ts, hubs)
-    applied = xs[:, lag_slice] if lag_slice is not None else cmds
+    applied = (SecondOrderServo.positions(xs[:, lag_slice]) if lag_slice is not None
+               else cmds)
 
     # -- truth trajectory -----------------------------------------------------------------
     euler = xs[:, b + 6:b + 9]
@@ -447,6 +443,9 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     lever = scenario.hidden.enabled().get("lever_arm")
     r_imu = np.asarray(lever.position_m if lever is not None else (0.0, 0.0, 0.0), float)
     imu_traj = traj.at_point(r_imu)
+    rectification = scenario.hidden.enabled().get("vibration_rectification")
+    if rectification is not None:
+        imu_traj = with_rectification(imu_traj, rectification, truth.nominal_rotor_speed_rad_s)
 
     result = SimResult(
         scenario=scenario, seed=seed, duration_s=duration, truth_model=truth, truth=traj,
@@ -481,7 +480,10 @@ def _measure(result: SimResult, rngs: dict) -> None:
     d["vn200"] = Vn200(vn_cfg, rng=rngs["vn200"])
     s["vn200"] = d["vn200"].measure(result.imu_truth)
     d["rc"] = RcReceiver(cfg.rc, rng=rngs["rc"])
-    s["rc"] = d["rc"].measure(result.truth)
+    skew = sc.hidden.enabled().get("input_time_skew")
+    s["rc"] = d["rc"].measure(result.truth, commands_rad=None if skew is None else
+                              skewed_commands(result.truth.t_s, result.commands_rad,
+                                              skew.offset_s))
     d["tail_servo"] = TailServoPwm(cfg.tail_servo, rng=rngs["tail_servo"])
     s["tail_servo"] = d["tail_servo"].measure(result.truth)
     d["rotor"] = RotorTachometer(cfg.rotor, rng=rngs["rotor"])

@@ -68,6 +68,36 @@ def test_compiled_rk4_step_equals_the_numpy_rk4(table52):
                                rtol=1e-12, atol=1e-12)
 
 
+def test_stepper_single_row_path_equals_the_batch_rk4_with_its_height_and_dt(table52):
+    # hil_sim's truth steps one row at a time through the fast path: same numbers as the
+    # general batch step with the same per-step height, step size and default parameters
+    x, u, w, env = rows(table52, 4, seed=5)
+    stepper = Stepper(table52)
+    for i, h in enumerate((0.8, 2.5, np.inf)):
+        got = stepper.step(x[i], u[i], w[i], h, 2e-3)
+        want = rk4_step(table52, x[i:i + 1], u[i], 2e-3, w[i], {"height_agl_m": h})[0]
+        np.testing.assert_array_equal(got, want)
+    batch = stepper.step(x, u, w, env["height_agl_m"], 1e-3)
+    np.testing.assert_array_equal(
+        batch, rk4_step(table52, x, u, 1e-3, w, {"height_agl_m": env["height_agl_m"]}))
+    xdot, meas = stepper.rates_and_measurement(x[1], u[1], w[1], 2.0)
+    want_xdot, want_meas = table52.rates_and_measurement(x[1:2], u[1], w[1],
+                                                         {"height_agl_m": 2.0})
+    np.testing.assert_array_equal(xdot, want_xdot[0])
+    np.testing.assert_array_equal(meas, want_meas[0])
+    with pytest.raises(ValueError, match="no step size"):
+        stepper.step(x[0], u[0])
+
+
+def test_stepper_of_a_model_with_numpy_stages_steps_through_the_numpy_rk4(probes):
+    with_numpy, with_kernel = probes
+    x, u, w, _ = rows(with_numpy, 2, seed=6)
+    a = Stepper(with_numpy, 1e-3).step(x[0], u[0], w[0], 1.5)
+    b = Stepper(with_kernel, 1e-3).step(x[0], u[0], w[0], 1.5)
+    assert a.shape == (with_numpy.n_states,)
+    np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+
+
 def test_simulate_over_sampled_arrays_equals_the_closed_loop_path(table52):
     # the whole-run compiled loop and the per-step Python loop integrate the same ODE
     tr = trim_hover(table52)

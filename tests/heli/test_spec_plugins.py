@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from airwake.heli import default_model, load_plugin, load_spec, save_spec
+from airwake.heli import default_model, load_model, load_plugin, load_spec, save_spec
 from airwake.heli.effects.base import EffectError, registered_effects
 from airwake.heli.plugins import forget_plugin
 from airwake.heli.spec import SpecError
@@ -46,6 +46,66 @@ def test_spec_errors_name_the_file_and_the_problem(tmp_path):
         load_spec(p)
     with pytest.raises(SpecError, match="not found"):
         load_spec(tmp_path / "missing.toml")
+
+
+def test_load_model_takes_a_model_a_name_or_a_path(tmp_path):
+    # every command's --model goes through load_model: the same model whichever way
+    assert load_model(MODEL) is MODEL
+    assert load_model("table51") == MODEL
+    assert load_model(save_spec(MODEL, tmp_path / "m.toml")) == MODEL
+    with pytest.raises(SpecError, match="table99"):
+        load_model("table99")
+
+
+PLUGIN_INIT_RAISES = '''
+from airwake.heli import Effect, register_effect
+
+@register_effect("test_init_raises")
+class InitRaises(Effect):
+    def __init__(self, **values):
+        raise KeyError("bug in the plugin")
+'''
+
+
+def test_load_model_turns_a_plugin_bug_into_one_line_naming_the_spec(tmp_path):
+    # a user's effect that raises something other than ValueError/TypeError must not
+    # escape as a traceback from deep inside the spec loader
+    plugin = tmp_path / "init_raises.py"
+    plugin.write_text(PLUGIN_INIT_RAISES)
+    spec = tmp_path / "uses_it.toml"
+    spec.write_text('[model]\neffects = ["test_init_raises"]\nplugins = ["init_raises.py"]\n')
+    try:
+        with pytest.raises(SpecError, match=r"uses_it.toml: KeyError.*bug in the plugin"):
+            load_model(spec)
+    finally:
+        forget_plugin(plugin)
+
+
+def test_save_spec_is_atomic_and_a_failed_write_leaves_the_old_file(tmp_path, monkeypatch):
+    # an interrupted or failing save must never leave half a spec or a stray temp file
+    out = tmp_path / "m.toml"
+    out.write_text("# the previous spec\n")
+    import airwake.heli.spec as spec_mod
+
+    def fail(*_a, **_k):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(spec_mod.os, "replace", fail)
+    with pytest.raises(OSError, match="disk full"):
+        save_spec(MODEL, out)
+    assert out.read_text() == "# the previous spec\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.toml"]
+    monkeypatch.undo()
+    assert load_spec(save_spec(MODEL, out)) == MODEL
+    assert out.stat().st_mode & 0o777 == 0o644
+
+
+def test_save_spec_refuses_a_non_toml_name_or_a_missing_directory(tmp_path):
+    with pytest.raises(SpecError, match="a model spec is a .toml file"):
+        save_spec(MODEL, tmp_path / "m.txt")
+    with pytest.raises(SpecError, match="does not exist"):
+        save_spec(MODEL, tmp_path / "no" / "m.toml")
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_parameter_vector_interface_names_bounds_fixed():

@@ -2,12 +2,13 @@
 (reference §5.3): the reference's particle swarm (eq 5.16) and a fast equation-error
 least-squares fit, both on the same residuals (docs/calibration.md).
 
-    from airwake.calibrate import calibrate, write_spec
+    from airwake.calibrate import calibrate
+    from airwake.heli import save_spec
     result = calibrate("flight.parquet", model="table51", method="lsq")
     result.rms_before, result.rms_after          # (6,) per channel
     result.names, result.values, result.std      # free parameters, fit, 1-sigma
     result.notes                                 # identifiability report
-    write_spec(result.model, "fitted.toml")      # atomic (temp file + rename)
+    save_spec(result.model, "fitted.toml")       # atomic (temp file + rename)
 
 Model-generated flights for tests and benches: `airwake.calibrate.synthetic`.
 """
@@ -15,23 +16,13 @@ Model-generated flights for tests and benches: `airwake.calibrate.synthetic`.
 from __future__ import annotations
 
 import os
-import tempfile
-from pathlib import Path
 
 import numpy as np
 
 from airwake.calibrate.errors import CalibrationError
 from airwake.calibrate.fit import FitResult
 
-__all__ = ["CalibrationError", "FitResult", "calibrate", "load_model", "load_flight",
-           "write_spec"]
-
-
-def load_model(spec):
-    """A HeliModel from a spec path or shipped name, a HeliModel passes through."""
-    from airwake.heli import HeliModel, load_spec
-
-    return spec if isinstance(spec, HeliModel) else load_spec(spec)
+__all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight"]
 
 
 def load_flight(flight):
@@ -60,6 +51,7 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     from airwake.calibrate.envelope import flight_envelope, wind_trust
     from airwake.calibrate.params import identified_subset, select_parameters
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
+    from airwake.heli import load_model
     from airwake.progress import Progress
 
     if method not in ("lsq", "pso"):
@@ -157,29 +149,3 @@ def _front_end(data, model, cutoff_hz: float, channel_scale):
     if channel_scale is None:
         out.scale = data.scale * np.sqrt(min(2.0 * cutoff_hz / fs, 1.0))
     return out, {"cutoff_hz": float(cutoff_hz), "rate_hz": float(fs)}
-
-
-def check_output(path) -> Path:
-    """The spec can be written there (checked before a long fit)."""
-    p = Path(path)
-    if not p.parent.is_dir():
-        raise CalibrationError(f"cannot write {p}: directory {p.parent} does not exist")
-    return p
-
-
-def write_spec(model, path, description: str = "", calibration: dict | None = None) -> Path:
-    """save_spec to a temporary file in the target directory, then rename: a failed or
-    interrupted write never leaves a half-written spec."""
-    from airwake.heli import save_spec
-
-    p = check_output(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}-", suffix=".toml", dir=p.parent)
-    os.close(fd)
-    try:
-        save_spec(model, tmp, name=p.stem, description=description, calibration=calibration)
-        # save_spec resolves plugin paths relative to the file: same directory, same paths
-        os.replace(tmp, p)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return p

@@ -65,9 +65,10 @@ def calibration_table(result, flight, start) -> dict:
 
 
 def _handle(args: argparse.Namespace) -> int:
-    from airwake.calibrate import calibrate, check_output, write_spec
+    from airwake.calibrate import calibrate
+    from airwake.heli import check_spec_path, save_spec
 
-    check_output(args.out)
+    check_spec_path(args.out)
     result = calibrate(
         args.flight, model=args.model, method=args.method, params=args.params,
         window_s=args.window_s, warmup_s=args.warmup_s, max_windows=args.max_windows,
@@ -77,7 +78,7 @@ def _handle(args: argparse.Namespace) -> int:
         progress=sys.stderr.isatty() or args.progress)
     desc = (f"calibrated by airwake calibrate --method {args.method} from {args.flight} "
             f"(start {args.model})")
-    path = write_spec(result.model, args.out, desc, calibration=calibration_table(
+    path = save_spec(result.model, args.out, description=desc, calibration=calibration_table(
         result, args.flight, args.model))
     info = result.info
     if args.json:

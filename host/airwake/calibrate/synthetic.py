@@ -228,16 +228,12 @@ def generate_flight(
     …), plus `truth_<channel>` for the noise-free measurement."""
     import pandas as pd
 
-    from airwake.heli import HeliModel, load_spec
-    from airwake.heli.integrate import rk4_step
+    from airwake.heli import HeliModel, load_model, rk4_step
     from airwake.heli.trim import trim_hover
     from airwake.record.flight_table import FlightTable
 
-    if not isinstance(model, HeliModel):
-        spec_name = str(model)
-        model = load_spec(model)
-    else:
-        spec_name = "<model>"
+    spec_name = "<model>" if isinstance(model, HeliModel) else str(model)
+    model = load_model(model)
     excitation = excitation or Excitation()
     wind = wind or WindProfile()
     noise = NoiseSpec() if noise is None else noise

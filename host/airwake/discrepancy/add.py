@@ -16,8 +16,6 @@ written to a temporary file next to `out`, loaded back to check it, and renamed 
 from __future__ import annotations
 
 import fnmatch
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +26,7 @@ from airwake.discrepancy.compare import Analysis, analyse, channel_metrics
 from airwake.discrepancy.errors import DiscrepancyError
 from airwake.discrepancy.fit import FitResult, fit_parameters
 from airwake.discrepancy.settings import AnalysisSettings
+from airwake.heli import load_model, save_spec
 from airwake.heli.context import MEAS_CHANNELS
 
 
@@ -58,24 +57,6 @@ class AddResult:
             "out": None if self.out is None else str(self.out),
             "model_effects": list(self.model.effect_names),
         }
-
-
-def load_model(spec):
-    """A HeliModel from a spec path / shipped name (catalogue effects resolvable)."""
-    from airwake.heli import HeliModel, load_spec
-
-    if isinstance(spec, HeliModel):
-        return spec
-    try:
-        return load_spec(spec)
-    except DiscrepancyError:
-        raise
-    except Exception as exc:  # SpecError is an AirwakeError; others are bugs in a plugin
-        from airwake.errors import AirwakeError
-
-        if isinstance(exc, AirwakeError):
-            raise DiscrepancyError(str(exc)) from None
-        raise DiscrepancyError(f"model spec {spec}: {type(exc).__name__}: {exc}") from None
 
 
 def resolve_retune(model, patterns) -> list[str]:
@@ -155,34 +136,8 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
     after = channel_metrics(an.band(after_res), an.measured_band, fl_res, an.mask, an.noise)
     written = None
     if out is not None:
-        written = write_spec_atomically(fr.model, out, name=name or Path(out).stem,
-                                        description=f"{', '.join(model.effect_names)} + "
-                                        f"{effect} fitted on {an.flight.name}")
+        written = save_spec(fr.model, out, name=name or Path(out).stem,
+                            description=f"{', '.join(model.effect_names)} + "
+                            f"{effect} fitted on {an.flight.name}")
     return AddResult(effect, fr.model, fr, before, after, written, None if plugin is None
                      else str(plugin))
-
-
-def write_spec_atomically(model, out, name: str = "", description: str = "") -> Path:
-    """save_spec to a temp file in out's directory, load it back, rename over out."""
-    from airwake.heli import load_spec, save_spec
-
-    out = Path(out)
-    if out.suffix.lower() != ".toml":
-        raise DiscrepancyError(f"--out {out}: a model spec is a .toml file")
-    if not out.parent.exists():
-        raise DiscrepancyError(f"--out {out}: directory {out.parent} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.stem}.", suffix=".toml", dir=out.parent)
-    os.close(fd)
-    tmp = Path(tmp)
-    try:
-        save_spec(model, tmp, name=name or out.stem, description=description)
-        back = load_spec(tmp)
-        if back.effect_names != model.effect_names:
-            raise DiscrepancyError(f"{out}: the written spec does not load back the same "
-                                   "model")
-        os.chmod(tmp, 0o644)  # mkstemp makes it private; a spec is an ordinary file
-        os.replace(tmp, out)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return out

@@ -156,8 +156,8 @@ def _table(metrics: dict, extra: dict | None = None) -> str:
 
 
 def _compare(args) -> int:
-    from airwake.discrepancy.add import load_model
     from airwake.discrepancy.compare import analyse, summary
+    from airwake.heli import load_model
 
     st = _settings(args)
     model = load_model(args.model)
@@ -192,10 +192,10 @@ def _compare(args) -> int:
 
 def _diagnose(args) -> int:
     from airwake.discrepancy import where
-    from airwake.discrepancy.add import load_model
     from airwake.discrepancy.candidates import CANDIDATES
     from airwake.discrepancy.diagnose import diagnose, summary
     from airwake.discrepancy.errors import DiscrepancyError
+    from airwake.heli import load_model
 
     st = _settings(args)
     if args.candidates:

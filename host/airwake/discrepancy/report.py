@@ -247,11 +247,12 @@ def _img(figs, key, alt) -> str:
 def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=True) -> dict:
     """Run the workflow and write DIR/index.html + figures (module docstring)."""
     from airwake.discrepancy import where
-    from airwake.discrepancy.add import add_effect, load_model, write_spec_atomically
+    from airwake.discrepancy.add import add_effect
     from airwake.discrepancy.compare import analyse, summary
     from airwake.discrepancy.diagnose import diagnose
     from airwake.discrepancy.diagnose import summary as diag_summary
     from airwake.discrepancy.settings import AnalysisSettings
+    from airwake.heli import load_model, save_spec
 
     settings = settings or AnalysisSettings()
     out = Path(out_dir)
@@ -276,8 +277,8 @@ def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=Tru
     if after_model is not None:
         after_an = analyse(after_model, an.flight, settings, free_sim=False)
         if added is not None:
-            write_spec_atomically(after_model, out / "model_after.toml",
-                                  description=f"report: {added.effect} added")
+            save_spec(after_model, out / "model_after.toml",
+                      description=f"report: {added.effect} added")
     figs = _figures(out, an, bd, diag, after_an)
     s_compare = summary(an)
     s_diag = diag_summary(diag)

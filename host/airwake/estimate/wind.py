@@ -75,9 +75,10 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     given). Both read the front end's low-passed, decimated samples
     (`airwake.estimate.prefilter`: cutoff_hz 6, rate_hz 15 for the smoother and 30 for the
     APF; cutoff_hz=0 feeds the APF the raw flight as the reference did)."""
-    from airwake.calibrate import CalibrationError, load_flight, load_model
+    from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
+    from airwake.heli import load_model
     from airwake.record.flight_table import flight_fingerprint
 
     if method not in METHODS:

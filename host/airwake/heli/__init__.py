@@ -3,15 +3,22 @@
 Public API:
     HeliModel, Context, MEAS_CHANNELS, INPUT_NAMES, WIND_NAMES
     Effect, Parameter, State, register_effect, registered_effects, effect_class
-    default_effects(), load_spec(path), save_spec(model, path), builtin_spec(name)
+    CATALOGUE_EFFECTS                           (airwake.heli.effects.catalogue)
+    default_effects(), default_model()
+    load_model(spec_or_model), load_spec(path), builtin_spec(name), spec_calibration(path)
+    save_spec(model, path, name=, description=, calibration=)   atomic; check_spec_path
     load_plugin(path)
-    rk4_step, simulate                          (airwake.heli.integrate)
+    Stepper(model, dt, env, params).step(x, u, w, h, dt), rk4_step, simulate, Trajectory
     trim_hover, linearize                       (airwake.heli.trim)
     predict_measurements, reconstruct_hidden    (airwake.heli.measurement)
+    kernel, kernel_function, Q, add_load, ...   (airwake.heli.kernel: writing effects)
+The numba code generator behind the compiled paths is `airwake.heli.codegen`, private to
+this package.
 """
 
 from airwake.heli.context import MEAS_CHANNELS, Context
 from airwake.heli.effects import (
+    CATALOGUE_EFFECTS,
     Atmosphere,
     Effect,
     EffectError,
@@ -29,9 +36,18 @@ from airwake.heli.effects import (
     register_effect,
     registered_effects,
 )
+from airwake.heli.integrate import Stepper, Trajectory, rk4_step, simulate
 from airwake.heli.model import INPUT_NAMES, WIND_NAMES, HeliModel
 from airwake.heli.plugins import load_plugin
-from airwake.heli.spec import SpecError, builtin_spec, load_spec, save_spec, spec_calibration
+from airwake.heli.spec import (
+    SpecError,
+    builtin_spec,
+    check_spec_path,
+    load_model,
+    load_spec,
+    save_spec,
+    spec_calibration,
+)
 
 
 def default_effects() -> list[Effect]:
@@ -59,5 +75,6 @@ __all__ = [
     "MainRotor", "Parameter", "PittPetersInflow", "RigidBody", "State", "TailRotor",
     "effect_class", "register_effect", "registered_effects", "default_effects",
     "default_model", "load_plugin", "SpecError", "builtin_spec", "load_spec", "save_spec",
-    "spec_calibration",
+    "spec_calibration", "load_model", "check_spec_path", "CATALOGUE_EFFECTS", "Stepper",
+    "Trajectory", "rk4_step", "simulate",
 ]

@@ -1,9 +1,10 @@
 """Fixed-step RK4 integration of `HeliModel.derivatives` (batched: N trajectories at once).
 
 Three ways in, fastest last:
-    rk4_step(model, x, u, dt, w, env, params)    one step, any model
-    Stepper(model, dt, env, params).step(x, u, w) one step per call with little Python
-                                                  around it (closed-loop pilots, hil_sim)
+    rk4_step(model, x, u, dt, w, env, params)   one step of N rows, any model
+    Stepper(model, dt, env, params)             one step per call with little Python around
+        .step(x, u, w, height_agl_m, dt)        it (closed-loop pilots, hil_sim's truth);
+        .rates_and_measurement(x, u, w, h)      .derivatives: the model at the same inputs
     simulate(model, x0, duration_s, dt, inputs, wind, …)
         inputs/wind as callables (closed loop, a Python call per step), or as arrays
         sampled per step: then an all-kernel model integrates the whole run inside one
@@ -44,47 +45,70 @@ def rk4_step(model, x, u, dt: float, w=None, env=None, params=None) -> np.ndarra
 
 
 class Stepper:
-    """RK4 steps of a fixed model, step size, environment and parameters, with the
-    per-call Python work cut to the minimum (one compiled call per step for an all-kernel
-    model): `x = stepper.step(x, u, w)`, x (N,S) or (S,), u (N|1, 4) or (4,), w (N|1, 6),
-    (6,) or None. Returns a new array shaped like x."""
+    """RK4 steps of one model with fixed parameters, the per-call Python work cut to the
+    minimum (a single row of an all-kernel model: one compiled call, no allocation but
+    the result).
 
-    def __init__(self, model, dt: float, env=None, params=None) -> None:
+        stepper = Stepper(model, dt=1e-3)
+        x = stepper.step(x, u, w)                 # x (S,) -> (S,), (N, S) -> (N, S)
+        x = stepper.step(x, u, w, h, dt)          # this step's hub height and size
+        xdot, meas = stepper.rates_and_measurement(x, u, w, h)
+
+    u (4,) or (N|1, 4) blade-pitch commands; w (6,), (N|1, 6) eq 5.3 hub wind, or None
+    (still air); h the hub height above ground/deck in m, a float or (N,) (None: `env`'s);
+    dt None: the constructor's. `env` and `params` as for `HeliModel.derivatives`.
+    A model with numpy stages steps through `rk4_step` (four `derivatives` calls)."""
+
+    def __init__(self, model, dt: float | None = None, env=None, params=None) -> None:
         self.model = model
-        self.dt = float(dt)
-        self.env = env
+        self.dt = None if dt is None else float(dt)
+        self.env = dict(env) if env else {}
         self.params = params
-        self._fast = model.is_compiled
+        a = model._rows(model.zero_state(1), np.zeros(4), None, env, params)
+        # the one-row compiled path: env and params shared by every row
+        self._fast = model.is_compiled and a.n == 1
         if self._fast:
-            a = model._rows(model.zero_state(1), np.zeros(4), None, env, params)
-            self._rows_env = a.n  # rows fixed by env/params (1 when shared by all rows)
-            self._h, self._om, self._p = a.h, a.om, a.p  # one row each: stride 0
-            self._fn = model.compiled.fns.rk4_rows
-            self._nw = np.zeros((1, 6))
+            s = model.n_states
+            self._rk4 = model.compiled.fns.rk4_rows
+            self._h, self._om, self._p = a.h, a.om, a.p
+            self._x1, self._u1, self._w1 = np.empty((1, s)), np.empty((1, 4)), np.zeros((1, 6))
+            self._h1, self._out1 = np.empty(1), np.empty((1, s))
+            self._row_shape = (s,)
 
-    def step(self, x, u, w=None) -> np.ndarray:
-        if not self._fast or self._rows_env != 1:
-            out = rk4_step(self.model, x, u, self.dt, w, self.env, self.params)
-            return out.reshape(np.shape(x)) if np.ndim(x) == 1 else out
-        x2 = np.asarray(x, dtype=np.float64)
-        one = x2.ndim == 1
-        if one:
-            x2 = x2.reshape(1, -1)
-        u2 = np.asarray(u, dtype=np.float64).reshape(-1, 4)
-        w2 = self._nw if w is None else np.asarray(w, dtype=np.float64).reshape(-1, 6)
-        n = x2.shape[0]
-        if (x2.shape[1] != self.model.n_states or u2.shape[0] not in (1, n)
-                or w2.shape[0] not in (1, n) or not (x2.flags.c_contiguous and x2.flags.writeable
-                                                     and u2.flags.c_contiguous
-                                                     and u2.flags.writeable
-                                                     and w2.flags.c_contiguous
-                                                     and w2.flags.writeable)):
-            out = rk4_step(self.model, x2, u2, self.dt, w2, self.env, self.params)
-        else:
-            out = np.empty_like(x2)
-            self._fn(n, x2, 1, u2, int(u2.shape[0] > 1), w2, int(w2.shape[0] > 1), self._h, 0,
-                     self._om, 0, self._p, 0, self.dt, out)
-        return out[0] if one else out
+    def _env(self, height_agl_m):
+        if height_agl_m is None:
+            return self.env
+        return {**self.env, "height_agl_m": height_agl_m}
+
+    def step(self, x, u, w=None, height_agl_m=None, dt: float | None = None) -> np.ndarray:
+        """The state one RK4 step of `dt` after x, shaped like x."""
+        if dt is None:
+            dt = self.dt
+            if dt is None:
+                raise ValueError("Stepper.step: no step size (give dt here or to Stepper)")
+        if self._fast and getattr(x, "shape", None) == self._row_shape:
+            self._x1[0] = x
+            self._u1[0] = u
+            self._w1[0] = 0.0 if w is None else w
+            h = self._h
+            if height_agl_m is not None:
+                self._h1[0] = height_agl_m
+                h = self._h1
+            self._rk4(1, self._x1, 1, self._u1, 1, self._w1, 1, h, 1, self._om, 1, self._p, 1,
+                      dt, self._out1)
+            return self._out1[0].copy()
+        out = rk4_step(self.model, x, u, dt, w, self._env(height_agl_m), self.params)
+        return out[0] if np.ndim(x) == 1 else out
+
+    def rates_and_measurement(self, x, u, w=None, height_agl_m=None):
+        """(dx/dt, predicted measurement) at x: (S,), (6,) for one row, else (N, S), (N, 6)."""
+        xdot, meas = self.model.rates_and_measurement(x, u, w, self._env(height_agl_m),
+                                                      self.params)
+        return (xdot[0], meas[0]) if np.ndim(x) == 1 else (xdot, meas)
+
+    def derivatives(self, x, u, w=None, height_agl_m=None) -> np.ndarray:
+        """dx/dt at x, shaped like x."""
+        return self.rates_and_measurement(x, u, w, height_agl_m)[0]
 
 
 @dataclass

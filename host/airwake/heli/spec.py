@@ -10,8 +10,11 @@
     lock_number = 4.486
     ...
 
-`load_spec(path)` builds the `HeliModel`; `save_spec(model, path)` writes every parameter
-value (floats as Python's shortest round-trip repr), so load(save(m)) == m exactly.
+`load_spec(path)` builds the `HeliModel` (`load_model(spec_or_model)` also passes a model
+through: what every command's `--model` goes through); `save_spec(model, path)` writes
+every parameter value (floats as Python's shortest round-trip repr), so
+load(save(m)) == m exactly, atomically: a temporary file beside `path`, loaded back and
+renamed over it, so a failure never leaves half a spec (or touches the previous one).
 A spec written by `airwake calibrate` also carries a `[calibration]` table (the flight,
 the method and the envelope of air velocities and rates it covered, which the wind
 estimator checks its flights against); `spec_calibration(path)` reads it, the model
@@ -20,6 +23,8 @@ ignores it.
 
 from __future__ import annotations
 
+import os
+import tempfile
 import tomllib
 from pathlib import Path
 
@@ -30,6 +35,7 @@ from airwake.heli.effects.base import EffectError, effect_class, effect_source
 from airwake.heli.model import HeliModel
 
 SPEC_DIR = Path(__file__).resolve().parent / "specs"
+HEADER = "# airwake helicopter model spec (see docs/effects.md)\n"
 
 
 class SpecError(AirwakeError):
@@ -89,6 +95,20 @@ def load_spec(path) -> HeliModel:
         raise SpecError(f"{p}: {exc}") from None
 
 
+def load_model(spec) -> HeliModel:
+    """The model a spec file path or shipped name builds; a HeliModel passes through.
+    Every failure is one error naming the spec: SpecError/EffectError, and a user
+    plugin's own exception (a bug in its effect's __init__) turned into a SpecError."""
+    if isinstance(spec, HeliModel):
+        return spec
+    try:
+        return load_spec(spec)
+    except AirwakeError:
+        raise
+    except Exception as exc:  # noqa: BLE001 — user code: one line naming the spec
+        raise SpecError(f"model spec {spec}: {type(exc).__name__}: {exc}") from None
+
+
 def spec_dict(model: HeliModel, name: str = "", description: str = "", base_dir=None) -> dict:
     plugins = []
     for e in model.effects:
@@ -96,8 +116,6 @@ def spec_dict(model: HeliModel, name: str = "", description: str = "", base_dir=
         if src and src not in plugins:
             plugins.append(src)
     if base_dir is not None:
-        import os
-
         plugins = [os.path.relpath(s, base_dir) for s in plugins]
     head = {"name": name, "description": description, "effects": model.effect_names}
     if plugins:
@@ -106,17 +124,39 @@ def spec_dict(model: HeliModel, name: str = "", description: str = "", base_dir=
     return {"model": head, "effects": values}
 
 
+def check_spec_path(path) -> Path:
+    """`path` as a spec can be written there (a .toml file in an existing directory), else
+    SpecError; commands call it before a long fit, `save_spec` before writing."""
+    p = Path(path)
+    if p.suffix.lower() != ".toml":
+        raise SpecError(f"{p}: a model spec is a .toml file")
+    if not p.parent.is_dir():
+        raise SpecError(f"cannot write {p}: directory {p.parent} does not exist")
+    return p
+
+
 def save_spec(model: HeliModel, path, name: str = "", description: str = "",
               calibration: dict | None = None) -> Path:
     """Write `model` as a TOML spec (every parameter value, exactly), with an optional
-    [calibration] table."""
-    p = Path(path)
+    [calibration] table: to a temporary file in the target directory (plugin paths are
+    written relative to it), loaded back (it must build the same model), then renamed
+    over `path`. On any failure the temporary file is removed and `path` untouched."""
+    p = check_spec_path(path)
     data = spec_dict(model, name or p.stem, description, base_dir=p.parent.resolve())
     if calibration:
         data["calibration"] = calibration
-    text = tomli_w.dumps(data)
-    header = "# airwake helicopter model spec (see docs/effects.md)\n"
-    p.write_text(header + text)
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=".toml", dir=p.parent)
+    tmp = Path(tmp_name)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(HEADER + tomli_w.dumps(data))
+        if load_spec(tmp) != model:
+            raise SpecError(f"{p}: the written spec does not load back the same model")
+        os.chmod(tmp, 0o644)  # mkstemp makes it private; a spec is an ordinary file
+        os.replace(tmp, p)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
     return p
 
 
