@@ -9,8 +9,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from airwake.heli import codegen, kernel_cache, load_plugin, load_spec
+from airwake.heli import codegen, load_plugin, load_spec
+from airwake.heli.codegen import cache as kernel_cache
 from airwake.heli.integrate import Stepper, _rk4_numpy, rk4_step, simulate
+from airwake.heli.layout import Q
 from airwake.heli.measurement import (
     _reconstruct_relaxation,
     _wind_array,
@@ -199,7 +201,7 @@ def test_context_quantities_are_views_of_the_context_array(table52):
     ctx = table52.evaluate(x, u, w, env)
     assert isinstance(ctx.air_density_kg_m3, float)  # one value for all rows: a float
     ctx.inflow_0 = 0.5
-    assert np.all(ctx.c[:, codegen.Q.inflow_0] == 0.5)
+    assert np.all(ctx.c[:, Q.inflow_0] == 0.5)
     assert ctx.vel_b_m_s.base is not None and np.shares_memory(ctx.vel_b_m_s, ctx.c)
     params = np.repeat(table52.parameter_vector()[None], 4, 0)
     params[:, table52.parameter_names.index("atmosphere.air_density_kg_m3")] = [1.0, 1.1, 1.2, 1.3]

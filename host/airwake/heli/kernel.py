@@ -21,24 +21,20 @@ Arguments (the model passes them; a stage uses what it needs):
     scratch  (SCRATCH,) private per-row storage kept between this effect's stages
 
 Kernels are compiled without fastmath and with numpy's error model (x/0 -> inf/nan, as
-the numpy effects behave), cached on disk (`airwake.heli.kernel_cache`), and called from
-one generated function per effect composition (`airwake.heli.codegen`), so a single-row
-evaluation is one compiled call. Helpers a kernel calls must be `@kernel_function`s
-(module level; inlined into the kernel). Use math.* / np.* on scalars, no allocation.
+the numpy effects behave), cached on disk, and called from one generated function per
+effect composition (the package's code generator, `airwake.heli.codegen`), so a
+single-row evaluation is one compiled call. Helpers a kernel calls must be
+`@kernel_function`s (module level; inlined into the kernel). Use math.* / np.* on
+scalars, no allocation.
 """
 
 from __future__ import annotations
 
 import numba
 import numpy as np
-from numba.core import types
-from numba.extending import intrinsic
-from numba.np.arrayobj import make_array
 
-from airwake.heli import kernel_cache  # noqa: F401  (registers the kernels' cache locator)
+from airwake.heli.codegen.jit import JIT_OPTIONS, disk_cached, is_kernel, mark_kernel
 from airwake.heli.layout import Q
-
-JIT_OPTIONS = {"error_model": "numpy", "fastmath": False}
 
 
 def kernel_function(fn):
@@ -48,37 +44,11 @@ def kernel_function(fn):
 
 def kernel(fn):
     """Mark an effect's stage method as a compiled kernel (see the module docstring).
-    Compiled once per process on first use and cached on disk (`kernel_cache`), except for
-    effects defined inside a function (their parameter type cannot be pickled)."""
-    fn._airwake_kernel = True
-    disp = numba.njit(cache="<locals>" not in fn.__qualname__, **JIT_OPTIONS)(fn)
-    disp.airwake_kernel = True
-    return staticmethod(disp)
-
-
-def is_kernel(obj) -> bool:
-    return getattr(obj, "airwake_kernel", False) is True
-
-
-@intrinsic
-def _data_pointer(typingctx, arr):
-    """Pointer to a C-contiguous array's first element."""
-    sig = types.CPointer(arr.dtype)(arr)
-
-    def codegen(context, builder, signature, args):
-        return make_array(signature.args[0])(context, builder, value=args[0]).data
-
-    return sig, codegen
-
-
-def _unmanaged(a):
-    """The same C-contiguous array without reference counting: views sliced from it (one
-    per effect and row) then cost no atomic increments. The caller keeps `a` alive."""
-    return numba.carray(_data_pointer(a), a.shape)
-
-
-_unmanaged._airwake_kernel = True  # disk-cached like a kernel; called, not inlined (cheaper
-unmanaged = numba.njit(cache=True, **JIT_OPTIONS)(_unmanaged)  # to compile, same speed)
+    Compiled once per process on first use and cached on disk, except for effects defined
+    inside a function (their parameter type cannot be pickled)."""
+    on_disk = "<locals>" not in fn.__qualname__
+    disp = numba.njit(cache=on_disk, **JIT_OPTIONS)(disk_cached(fn))
+    return staticmethod(mark_kernel(disp))
 
 
 @kernel_function
@@ -132,5 +102,5 @@ def solve3(m00, m01, m02, m10, m11, m12, m20, m21, m22, r0, r1, r2):
     return y0 * inv, y1 * inv, y2 * inv
 
 
-__all__ = ["JIT_OPTIONS", "Q", "add_load", "air_velocity_at", "cross", "is_kernel",
-           "kernel", "kernel_function", "np", "solve3", "unmanaged"]
+__all__ = ["Q", "add_load", "air_velocity_at", "cross", "is_kernel", "kernel",
+           "kernel_function", "np", "solve3"]

@@ -16,7 +16,8 @@ Speed: every effect stage written as a compiled kernel (`airwake.heli.kernel`) r
 generated, numba-compiled function per effect composition (`airwake.heli.codegen`);
 `derivatives`, `measure` and `rates_and_measurement` of an all-kernel model keep only one
 context row in memory. A model with numpy stages (user plugins) runs stage by stage on
-the full `Context`, each kernel stage through its own compiled loop (`airwake.heli.staged`).
+the full `Context`, each kernel stage through its own compiled loop
+(`airwake.heli.codegen.staged`).
 """
 
 from __future__ import annotations
@@ -26,10 +27,12 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from airwake.heli import codegen, staged
+from airwake.heli import codegen
+from airwake.heli.codegen import staged
 from airwake.heli.context import MEAS_CHANNELS, Context
 from airwake.heli.effects.base import Effect
 from airwake.heli.layout import N_SLOTS
+from airwake.heli.pipeline import BODY_EFFECT
 
 INPUT_NAMES = ("delta_col_rad", "delta_lat_rad", "delta_lon_rad", "delta_ped_rad")
 WIND_NAMES = (
@@ -41,7 +44,6 @@ WIND_NAMES = (
     "wind_wz_rad_s",
 )
 ENV_NAMES = ("height_agl_m", "rotor_speed_rad_s")
-BODY_EFFECT = "rigid_body"
 _NO_WIND = np.zeros((1, 6))
 _NO_HEIGHT = np.full(1, np.inf)
 _NO_ROTOR_SPEED = np.full(1, np.nan)

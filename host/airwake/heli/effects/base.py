@@ -6,7 +6,8 @@ that declares its named parameters (with unit, bounds, source, fixed flag), its 
 states (if any) and implements any of the pipeline *stages* below. `__init__` only
 validates and stores parameter values; the stage methods do the work on a batch.
 
-Stages, called in this order (within a stage, in the order the model lists its effects):
+Stages, called in this order (within a stage, in the order the model lists its effects;
+the tuple is `airwake.heli.pipeline.STAGES`):
 
     environment(ctx, p)    air density, gravity, … (ctx.air_density_kg_m3, ctx.gravity_m_s2)
     inputs(ctx, p)         transform the pilot inputs ctx.delta_col/lat/lon/ped_rad
@@ -40,20 +41,7 @@ from types import SimpleNamespace
 from typing import ClassVar
 
 from airwake.errors import AirwakeError
-
-STAGES = (
-    "environment",
-    "inputs",
-    "rotor_speed",
-    "rotor_setup",
-    "blade_pitch",
-    "rotor_loading",
-    "inflow",
-    "forces",
-    "state_rates",
-    "body_dynamics",
-    "measurement",
-)
+from airwake.heli.pipeline import STAGES
 
 
 class EffectError(AirwakeError):

@@ -5,13 +5,13 @@ order, then model order) and generates Python source for it:
 
 - a model made only of kernel effects gets ONE function `row(...)` that runs every
   stage of one row (core inputs -> environment -> … -> body_dynamics -> measurement),
-  plus the loops of `airwake.heli.compiled_loops` (batch evaluation, RK4 step, RK4
-  simulation, hidden-state pass) copied next to it;
-- a model with numpy effects runs stage call by stage call (`airwake.heli.staged`):
+  plus the loops of `loops.py` (batch evaluation, RK4 step, RK4 simulation,
+  hidden-state pass) copied next to it;
+- a model with numpy effects runs stage call by stage call (`staged.py`):
   each kernel stage through its own compiled batch loop (compiled once per kernel, for
   every model), the numpy stages in between on the `Context`.
 
-The source is written to the kernel cache directory (`kernel_cache.cache_dir()`) under
+The source is written to the kernel cache directory (`cache.cache_dir()`) under
 a name that hashes the source, the kernels' source files and the library versions,
 imported from there and compiled with `numba.njit(cache=True)`: the first process
 compiles (seconds), later processes load the machine code from numba's cache next to the
@@ -32,13 +32,12 @@ from types import ModuleType, SimpleNamespace
 import numba
 import numpy as np
 
-from airwake.heli import compiled_loops, staged
-from airwake.heli.effects.base import STAGES
-from airwake.heli.kernel import JIT_OPTIONS, is_kernel, unmanaged
-from airwake.heli.kernel_cache import cache_dir, fingerprint, write_once
+from airwake.heli.codegen import loops, staged
+from airwake.heli.codegen.cache import cache_dir, fingerprint, write_once
+from airwake.heli.codegen.jit import JIT_OPTIONS, is_kernel, unmanaged
 from airwake.heli.layout import DEFAULTS, N_SLOTS, Q
+from airwake.heli.pipeline import BODY_EFFECT, STAGES
 
-BODY_EFFECT = "rigid_body"
 LOOP_TEMPLATES = ("evaluate_rows", "rk4_one", "work_arrays", "rk4_rows", "simulate_rows",
                   "foh_weights", "matvec_add", "hidden_rates", "modal_matrix", "hidden_pass")
 # helpers inlined into their callers (no compile of their own)
@@ -67,7 +66,7 @@ class Compiled:
     """A composition's compiled functions and layout (shared by every model with the same
     effect classes in the same order)."""
 
-    pure: bool  # only kernel effects: `fns` has row and the loops of compiled_loops
+    pure: bool  # only kernel effects: `fns` has row and the loops of loops.py
     steps: list[Step]  # models with numpy stages
     has_load: np.ndarray  # (E,) 1.0 for kernel effects with a forces stage
     sensed: np.ndarray  # (E,)
@@ -226,7 +225,7 @@ def _generate(model) -> tuple[str, dict, _Source, np.ndarray, np.ndarray]:
     src.emit("return")
     src.lines.append("")
     for t in LOOP_TEMPLATES:
-        src.lines.append(inspect.getsource(getattr(compiled_loops, t)))
+        src.lines.append(inspect.getsource(getattr(loops, t)))
     has = np.zeros(len(model.effects))
     sensed = np.zeros(len(model.effects))
     for e_idx, sens in static:

@@ -1,6 +1,6 @@
 """Compiled loops over rows and time, one copy per effect composition.
 
-These functions are *templates*: `airwake.heli.codegen` copies their source into each
+These functions are *templates*: `compose.py` copies their source into each
 generated composition module, where the global `row` is that composition's fused
 single-row evaluation
 

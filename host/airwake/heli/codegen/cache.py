@@ -25,7 +25,7 @@ import numba
 import numpy as np
 from numba.core import caching
 
-PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE_DIR = Path(__file__).resolve().parents[1]  # airwake/heli, not only codegen/
 
 
 @lru_cache(maxsize=1)
