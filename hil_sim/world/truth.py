@@ -58,13 +58,23 @@ class TruthModel:
     def state_index(self, name: str) -> int:
         return self.model.state_index(name)
 
+    def linear_model(self) -> HeliModel:
+        """The truth model with its hidden effects' non-smooth parts switched off (the
+        servo deadband): what the trim solves and the pilot's linear design sees. At a
+        trim (servos at the command) it agrees with `model` exactly."""
+        values = {}
+        for e in self.model.effects[len(self.host_model.effects):]:
+            values.update({f"{e.name}.{k}": v for k, v in e.linear_values().items()})
+        return self.model.with_parameters(values) if values else self.model
+
     def trim(self, vel_body_m_s=(0.0, 0.0, 0.0), yaw_rad: float = 0.0, wind=None,
              height_agl_m: float = np.inf) -> Trim:
         """Steady flight of the truth model, hidden states included.
 
         The host's `trim` solves the host part from a cold start; the hidden states then
-        start from their physical steady values (servo = command, rotor speed = set
-        point, lagged inflow = quasi-static inflow) and Newton refines everything."""
+        start from their physical steady values (each effect's `rest_state`: servos at
+        the command, rotor at the governor's set point, inflow at its quasi-static
+        value) and Newton refines everything on the `linear_model`."""
         env = {"height_agl_m": np.array([float(height_agl_m)])}
         base = trim(self.host_model, vel_body_m_s, yaw_rad=yaw_rad, wind=wind)
         if len(self.model.effects) == len(self.host_model.effects):
@@ -74,14 +84,8 @@ class TruthModel:
             x0[self.model.state_names.index(name)] = base.x[i]
         ctx = self.host_model.evaluate(base.x[None], base.u[None], wind)
         for e in self.model.effects[len(self.host_model.effects):]:
-            sl = self.model.state_slice(e.name)
-            if e.name == "hil_servo_lag":
-                x0[sl] = base.u
-            elif e.name == "hil_rotor_governor":
-                x0[sl] = ctx.rotor_speed_rad_s[0]
-            elif e.name == "hil_dynamic_inflow":
-                x0[sl] = ctx.inflow_0[0]
-        return refine_trim(self.model, x0, base.u, wind=wind, env=env)
+            x0[self.model.state_slice(e.name)] = e.rest_state(base.u, ctx)
+        return refine_trim(self.linear_model(), x0, base.u, wind=wind, env=env)
 
 
 def refine_trim(model: HeliModel, x0: np.ndarray, u0: np.ndarray, wind=None, env=None,
@@ -134,17 +138,8 @@ def build_truth_model(spec: str | Path = "truth", overrides: dict | None = None,
     if overrides:
         host = host.with_parameters(dict(overrides))
     rotor = host["main_rotor"].parameters()
-    hover_torque = None
-    droop = hidden.enabled().get("rotor_droop")
-    if droop is not None and droop.feedforward_torque_nm is None:
-        # Trim the governor's feed-forward so the hover runs at its set point.
-        setpoint = droop.speed_setpoint_rad_s or rotor["nominal_speed_rad_s"]
-        tr = trim(host, env={"rotor_speed_rad_s": np.array([setpoint])})
-        ctx = host.evaluate(tr.x[None], tr.u[None], env={"rotor_speed_rad_s": setpoint})
-        hover_torque = float(ctx.rotor_torque_nm[0])
     extra = build_hidden_effects(hidden, rotor_radius_m=rotor["radius_m"],
-                                 nominal_speed_rad_s=rotor["nominal_speed_rad_s"],
-                                 hover_torque_nm=hover_torque)
+                                 nominal_speed_rad_s=rotor["nominal_speed_rad_s"])
     model = HeliModel(list(host.effects) + extra)
     return TruthModel(model=model, host_model=host, hidden=hidden, spec=str(spec),
                       overrides=dict(overrides or {}))

@@ -15,10 +15,14 @@ from hil_sim.world.scenario import (
 
 REQUIRED = ("still_air_calibration", "fans_indoor", "ship_airwake_b0", "ship_airwake_b15",
             "hidden_ground_effect", "hidden_lever_arm", "hidden_servo_lag",
-            "hidden_rotor_droop", "hidden_wake_recirculation")
+            "hidden_rotor_droop", "hidden_dynamic_inflow", "hidden_wake_recirculation",
+            "hidden_vibration_rectification", "hidden_input_time_skew")
 HIDDEN_OF = {"hidden_ground_effect": ["ground_effect"], "hidden_lever_arm": ["lever_arm"],
              "hidden_servo_lag": ["servo_lag"], "hidden_rotor_droop": ["rotor_droop"],
-             "hidden_wake_recirculation": ["dynamic_inflow", "wake_recirculation"]}
+             "hidden_dynamic_inflow": ["dynamic_inflow"],
+             "hidden_wake_recirculation": ["wake_recirculation"],
+             "hidden_vibration_rectification": ["vibration_rectification"],
+             "hidden_input_time_skew": ["input_time_skew"]}
 
 
 def write(tmp_path, text: str, name: str = "s.toml"):
@@ -70,7 +74,7 @@ def test_extends_merges_tables_and_replaces_lists(tmp_path):
     ('rate_hz = 500.0\n', "rate_hz = 500.0"),
     ('seed = -1\n', "seed = -1"),
     ('[hidden.ground_efect]\n', "unknown hidden effect 'ground_efect'"),
-    ('[hidden.servo_lag]\ntau_swash_s = -0.1\n', "hidden.servo_lag: tau_swash_s = -0.1"),
+    ('[hidden.servo_lag]\ndamping_ratio = -0.1\n', "hidden.servo_lag: damping_ratio = -0.1"),
     ('[hidden.lever_arm]\nposition = [0, 0, 0]\n', "hidden.lever_arm: unknown key 'position'"),
     ('[wind]\ntype = "tornado"\n', "wind.type = 'tornado'"),
     ('[wind]\ntype = "ship_airwake"\n', "needs site.type = 'ship'"),
@@ -135,7 +139,7 @@ def test_replace_validates_like_the_file():
 
 def test_scenario_table_helper_matches_loader():
     assert scenario_table("hidden_lever_arm")["hidden"]["lever_arm"]["position_m"] == [
-        0.10, -0.05, -0.12]
+        0.14, 0.03, -0.09]
 
 
 def test_sim_table_cli_writes_a_loadable_table_and_prints_the_realtime_factor(tmp_path,
