@@ -21,20 +21,16 @@ runtime inputs).
 
 from __future__ import annotations
 
-import hashlib
 import inspect
-import sys
 import threading
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import ModuleType, SimpleNamespace
+from types import SimpleNamespace
 
-import numba
 import numpy as np
 
 from airwake.heli.codegen import loops, staged
-from airwake.heli.codegen.cache import cache_dir, fingerprint, write_once
-from airwake.heli.codegen.jit import JIT_OPTIONS, is_kernel, unmanaged
+from airwake.heli.codegen.jit import generated_module, is_kernel, unmanaged
 from airwake.heli.layout import DEFAULTS, N_SLOTS, Q
 from airwake.heli.pipeline import BODY_EFFECT, STAGES
 
@@ -249,25 +245,12 @@ def _build(model) -> Compiled:
     if not all(c[4] for c in calls):
         return _build_staged(model, calls)
     text, glb, src, has, sensed = _generate(model)
-    digest = hashlib.sha256((text + fingerprint(src.kernels)).encode()).hexdigest()[:24]
-    path = cache_dir() / f"heli_{digest}.py"
-    write_once(path, text)
-    mod_name = f"airwake_heli_generated_{digest}"
-    module = sys.modules.get(mod_name)
-    if module is None:
-        # a real module in sys.modules: numba's cache rebuilds the function's environment
-        # by importing its module name
-        module = ModuleType(mod_name)
-        module.__file__ = str(path)
-        module.__dict__.update(glb)
-        exec(compile(text, str(path), "exec"), module.__dict__)
-        for n in ("row", *LOOP_TEMPLATES):
-            inline = "always" if n in INLINED else "never"
-            module.__dict__[n] = numba.njit(cache=True, inline=inline, **JIT_OPTIONS)(
-                module.__dict__[n])
-        sys.modules[mod_name] = module
-    fns = SimpleNamespace(**{n: module.__dict__[n] for n in ("row", *LOOP_TEMPLATES)})
-    return Compiled(True, [], has, sensed, src.n_scratch, src.scratch, fns, path)
+    names = ("row", *LOOP_TEMPLATES)
+    module = generated_module("composition", text, src.kernels, glb,
+                              {n: "always" if n in INLINED else "never" for n in names})
+    fns = SimpleNamespace(**{n: module.__dict__[n] for n in names})
+    return Compiled(True, [], has, sensed, src.n_scratch, src.scratch, fns,
+                    Path(module.__file__))
 
 
 def _build_staged(model, calls) -> Compiled:

@@ -6,16 +6,23 @@
   stamped with the fingerprint of every file of `airwake.heli`), as `@kernel` does.
 - `is_kernel(obj)`: an effect stage written as a compiled kernel (`airwake.heli.kernel`).
 - `unmanaged(a)`: a C-contiguous array without reference counting, for the hot loops.
+- `generated_module(kind, text, ...)`: generated source as a module whose functions are
+  compiled and cached on disk like the kernels.
 """
 
 from __future__ import annotations
+
+import hashlib
+import sys
+from types import ModuleType
 
 import numba
 from numba.core import types
 from numba.extending import intrinsic
 from numba.np.arrayobj import make_array
 
-from airwake.heli.codegen import cache  # noqa: F401  (registers the kernels' cache locator)
+# importing cache registers the kernels' cache locator, before any @kernel compiles
+from airwake.heli.codegen.cache import cache_dir, fingerprint, write_once
 
 JIT_OPTIONS = {"error_model": "numpy", "fastmath": False}
 
@@ -55,3 +62,28 @@ def _unmanaged(a):
 
 
 unmanaged = numba.njit(cache=True, **JIT_OPTIONS)(_unmanaged)
+
+
+def generated_module(kind: str, text: str, kernels, glb: dict, inline: dict) -> ModuleType:
+    """The module the generated source `text` defines, with `glb` as its globals and the
+    functions named in `inline` (name -> numba's inline option) compiled with
+    numba.njit(cache=True). The source is written once to the cache directory as
+    `{kind}_{digest}.py`, the digest covering the text and the fingerprint of the
+    `kernels` it calls, so the first process compiles and later ones load the machine
+    code numba cached next to the file. Memoised as a real module in sys.modules: numba's
+    cache rebuilds a function's environment by importing its module name."""
+    digest = hashlib.sha256((text + fingerprint(kernels)).encode()).hexdigest()[:24]
+    path = cache_dir() / f"{kind}_{digest}.py"
+    write_once(path, text)
+    mod_name = f"airwake_heli_{kind}_{digest}"
+    module = sys.modules.get(mod_name)
+    if module is None:
+        module = ModuleType(mod_name)
+        module.__file__ = str(path)
+        module.__dict__.update(glb)
+        exec(compile(text, str(path), "exec"), module.__dict__)
+        for name, how in inline.items():
+            module.__dict__[name] = numba.njit(cache=True, inline=how, **JIT_OPTIONS)(
+                module.__dict__[name])
+        sys.modules[mod_name] = module
+    return module

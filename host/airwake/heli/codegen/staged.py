@@ -10,15 +10,11 @@ serves every model that uses it. Adding a numpy plugin to a model compiles nothi
 
 from __future__ import annotations
 
-import hashlib
-import sys
 import threading
-from types import ModuleType
 
 import numba
 
-from airwake.heli.codegen.cache import cache_dir, fingerprint, write_once
-from airwake.heli.codegen.jit import JIT_OPTIONS, disk_cached, unmanaged
+from airwake.heli.codegen.jit import JIT_OPTIONS, disk_cached, generated_module, unmanaged
 from airwake.heli.layout import DEFAULTS, Q
 
 _DEFAULT_SLOTS = tuple(getattr(Q, k) for k in DEFAULTS)
@@ -106,17 +102,5 @@ def _build_driver(kernel, effect_cls):
     params = "PT(" + ", ".join(f"pr[p0 + {j}]" for j in range(k)) + ")" if k else "()"
     name = f"{effect_cls.__module__}.{kernel.py_func.__qualname__}"
     text = _DRIVER.format(name=name, params=params)
-    digest = hashlib.sha256((text + fingerprint([kernel])).encode()).hexdigest()[:24]
-    path = cache_dir() / f"stage_{digest}.py"
-    write_once(path, text)
-    mod_name = f"airwake_heli_stage_{digest}"
-    module = sys.modules.get(mod_name)
-    if module is None:
-        module = ModuleType(mod_name)
-        module.__file__ = str(path)
-        module.__dict__.update(kernel=kernel, PT=effect_cls.parameter_tuple(),
-                               unmanaged=unmanaged)
-        exec(compile(text, str(path), "exec"), module.__dict__)
-        module.drive = numba.njit(cache=True, **JIT_OPTIONS)(module.drive)
-        sys.modules[mod_name] = module
-    return module.drive
+    glb = {"kernel": kernel, "PT": effect_cls.parameter_tuple(), "unmanaged": unmanaged}
+    return generated_module("stage", text, [kernel], glb, {"drive": "never"}).drive
