@@ -16,8 +16,9 @@
    the simulator's truth (a simulated flight has it).
 4. `airwake wind map`: the airwake map in the ship frame, scored against the simulator's
    wind field.
-5. `airwake model compare` in still air and with the estimated wind as the model's input:
-   the residual the still-air comparison shows is the airwake, not a missing effect.
+5. `airwake model compare` and `airwake model diagnose` in still air and with the estimated
+   wind as the model's input: the residual the still-air comparison shows is the airwake,
+   and the diagnosis says so (unmodelled wind ranks first) instead of naming an effect.
 6. report/index.html: the map first, then the estimate's accuracy, then the model section.
 
 Each step is the command a user would type (run here as `python -m airwake.cli ...`).
@@ -95,9 +96,15 @@ def main(argv: list[str] | None = None) -> int:
                          "0", "--json", "--quiet", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(base), "--windows",
                          "0", "--wind", str(wind), "--json", "--quiet", capture=True)
-    for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind)):
+    diag = _airwake("model", "diagnose", str(scored), "--model", str(base), "--no-sindy",
+                    "--json", "--quiet", capture=True)
+    diag_wind = _airwake("model", "diagnose", str(scored), "--model", str(base), "--no-sindy",
+                         "--wind", str(wind), "--json", "--quiet", capture=True)
+    for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
+                       ("diagnose_still_air", diag), ("diagnose_with_wind", diag_wind)):
         (out / f"{name}.json").write_text(json.dumps(data, indent=1))
-    write_report(report, mapdir, calib, est, amap, still_air, with_wind, args)
+    write_report(report, mapdir, calib, est, amap, still_air, with_wind, args,
+                 (diag, diag_wind))
     print(f"\ndemo done in {time.monotonic() - t0:.0f} s:\n  baseline     {base}\n"
           f"  recording    {rec}\n  flight table {flight}\n  wind         {wind}\n"
           f"  airwake map  {mapdir / 'map.parquet'} ({', '.join(amap['figures'])})\n"
@@ -110,8 +117,14 @@ def _rows(cells) -> str:
                    for row in cells)
 
 
+def _candidates(diag: dict, k: int = 3) -> str:
+    tested = [c for c in diag["candidates"] if c.get("testable")][:k]
+    return ", ".join(f"{c['effect']} {100 * c['explained']:.0f} %"
+                     + (" (significant)" if c["significant"] else "") for c in tested)
+
+
 def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
-                 still_air: dict, with_wind: dict, args) -> Path:
+                 still_air: dict, with_wind: dict, args, diagnoses: tuple) -> Path:
     """report/index.html: the map, the estimate's accuracy, the model section."""
     report.mkdir(parents=True, exist_ok=True)
     for f in amap["figures"]:
@@ -146,6 +159,13 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
     else:
         verdict += ("The estimated wind does not account for the residual: the model misses "
                     "something on this flight beyond the airwake (docs/model-discrepancy.md).")
+    diag, diag_wind = diagnoses
+    diagnosis = (f"<p><b>airwake model diagnose</b>, still air assumed: "
+                 f"{html.escape(diag['verdict']['text'])} (ranked: "
+                 f"{html.escape(_candidates(diag))}).</p>"
+                 f"<p><b>airwake model diagnose --wind wind.parquet</b> (the estimate as the "
+                 f"model's input): {html.escape(diag_wind['verdict']['text'])} (ranked: "
+                 f"{html.escape(_candidates(diag_wind))}).</p>")
     trust = calib.get("wind_trust") or {}
     trust_rows = [(k, "yes" if v["trusted"] else "NO", v["why"]) for k, v in trust.items()]
     page = f"""<!doctype html><html><head><meta charset="utf-8"><title>airwake demo</title>
@@ -170,6 +190,7 @@ reference's particle filter on real indoor flights.</p>
 <table><tr><th>channel</th><th>RMS, still air</th><th>/ noise</th>
 <th>RMS, estimated wind as input</th><th>/ noise</th></tr>{_rows(model_rows)}</table>
 <p>{html.escape(verdict)}</p>
+{diagnosis}
 <h2>The baseline model</h2>
 <p>Calibrated on the still-air calibration flight from {CALIBRATION_START}
 ({len(calib.get('parameters', {}))} parameters fitted; RMS after

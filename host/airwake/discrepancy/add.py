@@ -85,10 +85,16 @@ def _register_plugin(plugin) -> list[str]:
 
 def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                settings: AnalysisSettings | None = None, analysis: Analysis | None = None,
-               max_nfev: int = 30, name: str = "", progress=None) -> AddResult:
-    """Enable `effect`, fit it (and `retune`) on `flight`, write `out` (module docstring)."""
+               max_nfev: int = 30, name: str = "", progress=None, wind=None) -> AddResult:
+    """Enable `effect`, fit it (and `retune`) on `flight`, write `out` (module docstring).
+    `wind`: the flight's known wind as the model's input: (T, 6), "truth" or a wind table's
+    path (`airwake.discrepancy.wind`)."""
+    from airwake.discrepancy.wind import ADVICE, WIND_CANDIDATE
     from airwake.heli.effects.base import EffectError, effect_class
 
+    if effect == WIND_CANDIDATE:
+        raise DiscrepancyError(f"{WIND_CANDIDATE} is not a model effect: the wind is an input "
+                               f"of the model, not part of it; {ADVICE}")
     settings = settings or AnalysisSettings()
     model = load_model(model)
     plugin_names = _register_plugin(plugin) if plugin is not None else []
@@ -101,7 +107,11 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
     if effect in model:
         raise DiscrepancyError(f"effect {effect!r} is already in the model; refit it with "
                                f"--retune '{effect}.*' on a model without it, or remove it")
-    an = analysis or analyse(model, flight, settings)
+    if analysis is None:
+        from airwake.discrepancy.wind import on_flight
+
+        flight, wind = on_flight(wind, flight, settings)
+    an = analysis or analyse(model, flight, settings, wind=wind)
     free_retune = resolve_retune(model, retune)
     cand = candidate(effect)
     if cand is not None:

@@ -1,12 +1,13 @@
 """`airwake model ...`: the discrepancy workflow's commands.
 
-    airwake model compare FLIGHT [--model SPEC] [--json]
-    airwake model diagnose FLIGHT [--model SPEC] [--json]
-    airwake model add EFFECT --data FLIGHT [--model SPEC] [--plugin FILE.py]
+    airwake model compare FLIGHT [--model SPEC] [--wind WIND] [--json]
+    airwake model diagnose FLIGHT [--model SPEC] [--wind WIND] [--json]
+    airwake model add EFFECT --data FLIGHT [--model SPEC] [--wind WIND] [--plugin FILE.py]
                       [--retune PARAM ...] --out SPEC2 [--json]
-    airwake model report FLIGHT [--model SPEC] --out DIR [--after SPEC2] [--json]
+    airwake model report FLIGHT [--model SPEC] [--wind WIND] --out DIR [--after SPEC2]
 
-Every command accepts the analysis settings (--lowpass, --skip) and prints a table, or
+Every command accepts the analysis settings (--lowpass, --skip) and the flight's wind
+(--wind: a wind table or 'truth'; `airwake.discrepancy.wind`), and prints a table, or
 one JSON object with --json. docs/model-discrepancy.md walks through them.
 """
 
@@ -27,6 +28,12 @@ def _settings_args(p: argparse.ArgumentParser) -> None:
                         "0 = none)")
     p.add_argument("--skip", type=float, default=None, metavar="S",
                    help="start-up transient left out of every run (default 0.5 s)")
+    p.add_argument("--wind", metavar="WIND",
+                   help="the flight's wind as the model's input: an `airwake wind estimate` "
+                   "output, an anemometer-derived table (t_s + wind_vx/vy/vz_m_s body or "
+                   "wind_n/e/d_m_s earth axes), or 'truth' (a simulated flight's truth "
+                   "columns). Without it the model assumes still air and unmodelled wind is "
+                   "a candidate")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
 
@@ -46,9 +53,6 @@ def register(subparsers) -> None:
                        "simulation over short windows (rates, attitude, velocity).")
     p.add_argument("flight", metavar="FLIGHT", help="flight table (.parquet or .csv)")
     _settings_args(p)
-    p.add_argument("--wind", metavar="WIND.parquet",
-                   help="a wind estimate of this flight (airwake wind estimate) given to the "
-                   "model as a known input: what remains is not the wind")
     p.add_argument("--windows", type=int, default=None, metavar="N",
                    help="free-simulation windows (default 12; 0 = none)")
     p.add_argument("--window-s", type=float, default=None, metavar="S",
@@ -157,18 +161,14 @@ def _table(metrics: dict, extra: dict | None = None) -> str:
 
 def _compare(args) -> int:
     from airwake.discrepancy.compare import analyse, summary
+    from airwake.discrepancy.wind import on_flight
     from airwake.heli import load_model
 
     st = _settings(args)
     model = load_model(args.model)
     prog = _progress(args, "free simulation", st.free_sim_window_s * 150)
-    wind = None
-    if args.wind:
-        from airwake.discrepancy.compare import wind_on_flight
-        from airwake.discrepancy.data import load_flight
-
-        wind = wind_on_flight(args.wind, load_flight(args.flight, st))
-    an = analyse(model, args.flight, st, free_sim=st.free_sim_windows > 0, progress=prog,
+    flight, wind = on_flight(args.wind, args.flight, st)
+    an = analyse(model, flight, st, free_sim=st.free_sim_windows > 0, progress=prog,
                  wind=wind)
     s = summary(an)
     s["wind"] = str(args.wind) if args.wind else None
@@ -195,19 +195,22 @@ def _diagnose(args) -> int:
     from airwake.discrepancy.candidates import CANDIDATES
     from airwake.discrepancy.diagnose import diagnose, summary
     from airwake.discrepancy.errors import DiscrepancyError
-    from airwake.heli import load_model
+    from airwake.discrepancy.wind import WIND_CANDIDATE, on_flight
+    from airwake.heli import load_model, spec_calibration
 
     st = _settings(args)
     if args.candidates:
-        known = {c.name for c in CANDIDATES}
+        known = {c.name for c in CANDIDATES} | {WIND_CANDIDATE}
         bad = [c for c in args.candidates if c not in known]
         if bad:
             raise DiscrepancyError(f"--candidates: unknown effect(s) {bad}; the catalogue "
                                    f"has {sorted(known)}")
     model = load_model(args.model)
+    flight, wind = on_flight(args.wind, args.flight, st)
     prog = _progress(args, "screening candidates", len(CANDIDATES))
-    d = diagnose(model, args.flight, st, candidates=args.candidates, refine_top=args.refine,
-                 sindy=not args.no_sindy, progress=prog)
+    d = diagnose(model, flight, st, candidates=args.candidates, refine_top=args.refine,
+                 sindy=not args.no_sindy, progress=prog, wind=wind,
+                 model_calibrated=spec_calibration(args.model) is not None)
     bd = where.breakdown(d.analysis)
     s = summary(d)
     s["where"] = where.summary(bd)
@@ -216,7 +219,8 @@ def _diagnose(args) -> int:
     if args.json:
         _dump(s)
         return 0
-    print(f"{d.analysis.flight.name}: model {args.model}")
+    print(f"{d.analysis.flight.name}: model {args.model}"
+          + (f"; wind from {args.wind}" if args.wind else "; still air assumed"))
     print(_table(d.analysis.metrics()))
     print("\nworst windows:")
     for w in s["where"]["worst_windows"][:3]:
@@ -244,6 +248,11 @@ def _diagnose(args) -> int:
     sig = d.significant()
     print("\nsignificant: " + (", ".join(sig) if sig else "none (no candidate passes the "
                                "significance and effect-size thresholds)"))
+    if d.recalibration is not None:
+        rc = d.recalibration
+        print(f"recalibration (the model's own {rc['parameters']} parameters): explains "
+              f"{100 * rc['explained']:.1f} %, cross-validated {100 * rc['cv_explained']:.1f} %")
+    print("\nverdict: " + s["verdict"]["text"])
     return 0
 
 
@@ -254,7 +263,7 @@ def _add(args) -> int:
     prog = _progress(args, f"fitting {args.effect}", args.max_nfev)
     res = add_effect(args.model, args.effect, args.data, plugin=args.plugin,
                      retune=args.retune, out=args.out, settings=st, max_nfev=args.max_nfev,
-                     progress=prog)
+                     progress=prog, wind=args.wind)
     j = res.to_json()
     if args.json:
         _dump(j)
@@ -271,7 +280,7 @@ def _report(args) -> int:
 
     st = _settings(args)
     out = write_report(args.flight, args.model, args.out, settings=st, after=args.after,
-                       quiet=args.quiet)
+                       quiet=args.quiet, wind=args.wind)
     if args.json:
         _dump(out)
         return 0

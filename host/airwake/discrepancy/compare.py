@@ -118,7 +118,7 @@ def analyse(model, flight, settings: AnalysisSettings | None = None, *,
             free_sim: bool = False, progress=None, wind=None) -> Analysis:
     """Evaluate `model` on `flight` (path / table / Flight): residuals, band, mask, noise.
     `wind`: None (still air) or (T, 6) the eq 5.3 wind per sample (e.g. a wind estimate,
-    `wind_on_flight`) given to the model as a known input."""
+    `airwake.discrepancy.wind.wind_input`) given to the model as a known input."""
     settings = settings or AnalysisSettings()
     flight = load_flight(flight, settings)
     check_model(model)
@@ -279,30 +279,3 @@ def overall_score(an: Analysis) -> dict:
     m = an.metrics()
     ratios = np.array([m[c]["rms_over_noise"] for c in MEAS_CHANNELS])
     return {"rms_over_noise": float(np.sqrt(np.mean(ratios**2)))}
-
-
-def wind_on_flight(wind_path, flight: Flight) -> np.ndarray:
-    """A wind table (`airwake wind estimate`) at the flight's samples, (T, 6): checked to
-    be from this flight and to cover it, interpolated by time."""
-    from airwake.heli.model import WIND_NAMES
-    from airwake.record.flight_table import FlightTableError, load_flight_table
-
-    try:
-        wt = load_flight_table(wind_path, required=("t_s", *WIND_NAMES))
-    except FlightTableError as exc:
-        raise DiscrepancyError(str(exc)) from None
-    from airwake.record.flight_table import flight_fingerprint
-
-    fp = wt.metadata.get("flight_fingerprint")
-    here = flight_fingerprint(flight.df)
-    if fp and fp != here:
-        raise DiscrepancyError(f"{wind_path} was estimated from another flight ({fp}), not "
-                               f"{flight.name} ({here})")
-    t = wt.df["t_s"].to_numpy(float)
-    if t.size < 2:
-        raise DiscrepancyError(f"{wind_path}: {t.size} rows: not a wind estimate of a flight")
-    if t[0] > flight.t[0] + 0.5 or t[-1] < flight.t[-1] - 0.5:
-        raise DiscrepancyError(f"{wind_path} covers t = {t[0]:.2f} ... {t[-1]:.2f} s, not the "
-                               f"flight's {flight.t[0]:.2f} ... {flight.t[-1]:.2f} s")
-    return np.column_stack([np.interp(flight.t, t, wt.df[n].to_numpy(float))
-                            for n in WIND_NAMES])

@@ -37,9 +37,19 @@ from airwake.discrepancy.data import CHANNEL_LABELS
 from airwake.discrepancy.fit import fit_parameters, predict_sets
 from airwake.discrepancy.regress import LinearFit, canonical_correlations, linear_fit
 from airwake.discrepancy.settings import AnalysisSettings
+from airwake.discrepancy.wind import WIND_CANDIDATE
 from airwake.heli.context import MEAS_CHANNELS
 
 INDISTINGUISHABLE = 0.9
+# "calibrate first": the baseline misses by more than BROAD_NOISE_RATIO x the noise floor
+# in at least BROAD_CHANNELS channels, and refitting its own parameters leaves at most
+# RECAL_UNEXPLAINED of what the best candidate leaves unexplained (both cross-validated)
+BROAD_NOISE_RATIO = 3.0
+BROAD_CHANNELS = 3
+RECAL_UNEXPLAINED = 0.5
+# unmodelled wind is the verdict when it is indistinguishable from the top candidate and
+# explains at least this share of what that one explains
+WIND_TIE = 0.9
 
 
 @dataclass
@@ -63,13 +73,20 @@ class CandidateResult:
     manoeuvre: str = ""
     contribution: np.ndarray | None = None  # (T, 6) predicted change of the channels
     sens: np.ndarray | None = None  # (n, 6, J) weighted screening regressors
+    wind: dict | None = None  # unmodelled wind: the fitted earth-axis wind (wind.describe)
+
+    @property
+    def kind(self) -> str:
+        """"effect" (a catalogue effect: add it) or "wind" (supply the wind instead)."""
+        return "wind" if self.name == WIND_CANDIDATE else "effect"
 
     @property
     def cv_explained(self) -> float:
         return self.linear.cv_explained if self.linear is not None else 0.0
 
     def to_json(self) -> dict:
-        out = {"effect": self.name, "title": self.title, "testable": self.testable}
+        out = {"effect": self.name, "title": self.title, "kind": self.kind,
+               "testable": self.testable}
         if not self.testable:
             out["why_not"] = self.why_not
             return out
@@ -90,6 +107,8 @@ class CandidateResult:
             "reason": self.reason, "indistinguishable_from": self.indistinguishable_from,
             "separating_manoeuvre": self.manoeuvre,
         })
+        if self.wind is not None:
+            out["wind"] = self.wind
         return out
 
 
@@ -100,6 +119,66 @@ class Diagnosis:
     n_eff: float
     sindy: dict | None = None
     notes: list = field(default_factory=list)
+    recalibration: dict | None = None  # screen_recalibration's numbers (None: not screened)
+    model_calibrated: bool | None = None  # the spec carries a [calibration] table
+
+    def verdict(self) -> dict:
+        """What the diagnosis says, in one of four kinds (module docstring, step 6):
+        "calibrate" (the model is not this aircraft's: calibrate before naming an
+        effect), "wind" (the residual is wind: estimate or supply it), "effect" (the
+        top-ranked significant catalogue effect) or "none". JSON-ready."""
+        from airwake.discrepancy import wind as wind_mod
+
+        tested = [r for r in self.ranked if r.testable]
+        sig = [r for r in tested if r.significant]
+        rc = self.recalibration
+        best_cv = max((r.cv_explained for r in tested), default=0.0)
+        wind = next((r for r in sig if r.name == WIND_CANDIDATE), None)
+        if rc is not None and rc["calibrate_first"]:
+            top = tested[0].name if tested else "none"
+            if_wind = "" if wind is None else (
+                f" If the model was calibrated on this aircraft in still air, the residual "
+                f"is more likely the wind (unmodelled wind explains "
+                f"{100 * wind.explained:.0f} %): {wind_mod.ADVICE}.")
+            return {"kind": "calibrate", "effect": None, "text": (
+                f"Calibrate first: the model does not fit this aircraft. {rc['broad']} of 6 "
+                f"channels miss by more than {BROAD_NOISE_RATIO:g}x the noise floor, and "
+                f"refitting the model's own {rc['parameters']} parameters explains "
+                f"{100 * rc['cv_explained']:.0f} % of the residual (cross-validated) where "
+                f"the best candidate ({top}) explains {100 * best_cv:.0f} %: any effect "
+                "named now would stand in for the calibration. Calibrate on a still-air "
+                "flight (`airwake calibrate FLIGHT --model SPEC --out fitted.toml`, "
+                "docs/calibration.md), then diagnose again with `--model fitted.toml`."
+                + if_wind)}
+        if not sig:
+            return {"kind": "none", "effect": None, "text": (
+                "No candidate is significant: the model agrees with this flight within the "
+                "thresholds.")}
+        lead = sig[0]
+        if wind is not None and (lead is wind or (
+                any(o["effect"] == lead.name for o in wind.indistinguishable_from)
+                and wind.explained >= WIND_TIE * lead.explained)):
+            w = wind.wind or {}
+            mean = w.get("mean_ned_m_s", [0.0, 0.0, 0.0])
+            also = "" if lead is wind else (
+                f" ({lead.name} explains as much but is indistinguishable from a wind on "
+                "this flight)")
+            field = (f"a wind field of about ({mean[0]:+.1f}, {mean[1]:+.1f}, "
+                     f"{mean[2]:+.1f}) m/s (N, E, D) with its gradients explains "
+                     f"{100 * wind.explained:.0f} % of it")
+            if self.analysis.wind is not None:
+                return {"kind": "wind", "effect": None, "text": (
+                    f"The wind given as the model's input leaves a wind-like residual, not a "
+                    f"missing model effect{also}: a correction {field}. The wind table is "
+                    "too smooth or biased here (an estimate's posterior mean, an anemometer "
+                    "map's interpolation, the eq 5.3 field's linearisation over the disk); "
+                    "no model effect is named.")}
+            return {"kind": "wind", "effect": None, "text": (
+                f"The residual is unmodelled wind, not a missing model effect{also}: "
+                f"{field}. Do not add an effect for it: {wind_mod.ADVICE}.")}
+        return {"kind": "effect", "effect": lead.name, "text": (
+            f"The residual is best explained by {lead.name} ({100 * lead.explained:.0f} % "
+            f"explained): {lead.reason}.")}
 
     def top(self, k: int = 1) -> list[str]:
         return [c.name for c in self.ranked if c.testable][:k]
@@ -194,13 +273,24 @@ def _score_contribution(an: Analysis, res: CandidateResult) -> None:
 
 def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
              candidates=None, refine_top: int = 4, sindy: bool = True, progress=None,
-             analysis: Analysis | None = None) -> Diagnosis:
-    """Rank the catalogue's candidates on `flight` for `model` (module docstring)."""
+             analysis: Analysis | None = None, wind=None,
+             model_calibrated: bool | None = None) -> Diagnosis:
+    """Rank the catalogue's candidates and unmodelled wind on `flight` for `model`
+    (module docstring). `wind`: the flight's known wind as the model's input, (T, 6),
+    "truth" or a wind table's path (`airwake.discrepancy.wind`); `candidates` may name
+    `unmodelled_wind` too.
+    `model_calibrated`: the model's spec says it was calibrated (`airwake calibrate`'s
+    [calibration] table); unless True, the diagnosis also checks whether the model's own
+    parameters explain the residual better than any candidate ("calibrate first")."""
+    from airwake.discrepancy import wind as wind_mod
     from airwake.discrepancy.reasons import reason_for
 
     settings = settings or AnalysisSettings()
-    an = analysis or analyse(model, flight, settings)
+    if analysis is None:
+        flight, wind = wind_mod.on_flight(wind, flight, settings)
+    an = analysis or analyse(model, flight, settings, wind=wind)
     cands = [c for c in CANDIDATES if candidates is None or c.name in candidates]
+    with_wind = candidates is None or WIND_CANDIDATE in candidates
     y = an.residual_band[an.mask]
     n = y.shape[0]
     blocks = [b for b in np.array_split(np.arange(n), settings.n_blocks) if b.size]
@@ -219,10 +309,17 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
         results.append(screen(an, cand, blocks, n_eff, y))
         if progress is not None:
             progress.update(i + 1, cand.name)
+    if with_wind:
+        results.append(wind_mod.screen(an, blocks, n_eff, y))
     results.sort(key=lambda r: -r.cv_explained)
     by_name = {c.name: c for c in cands}
     for res in results[:refine_top]:
-        if res.cv_explained > 0:
+        if res.cv_explained <= 0:
+            continue
+        if res.name == WIND_CANDIDATE:
+            wind_mod.refine(an, res)
+            _score_contribution(an, res)
+        else:
             refine(an, by_name[res.name], res)
     for res in results:
         if not res.refined:
@@ -237,12 +334,42 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
     _distinguish(results)
     for res in results:
         res.reason = reason_for(an, res)
-    diag = Diagnosis(an, results + untestable, n_eff)
+    diag = Diagnosis(an, results + untestable, n_eff, model_calibrated=model_calibrated)
+    if model_calibrated is not True:
+        diag.recalibration = screen_recalibration(an, blocks, n_eff, y, results)
     if sindy:
         from airwake.discrepancy.sindy import sparse_regression
 
         diag.sindy = sparse_regression(an)
     return diag
+
+
+def screen_recalibration(an: Analysis, blocks, n_eff: float, y: np.ndarray,
+                         results: list) -> dict:
+    """Is the model this aircraft's? The residual regressed (linear, cross-validated,
+    like a candidate) on the sensitivities to the model's own free parameters (those not
+    marked fixed: what `airwake calibrate` fits), each stepped by 1 % of its value (or of
+    its range at zero). "calibrate_first" when the baseline misfits broadly and
+    recalibration leaves at most RECAL_UNEXPLAINED of what the best candidate leaves."""
+    from airwake.discrepancy.fit import predict_sets
+
+    model = an.model
+    idx = np.flatnonzero(~model.fixed_mask())
+    v0 = model.parameter_vector()
+    lo, hi = model.bounds()
+    steps = np.where(v0[idx] != 0.0, 0.01 * np.abs(v0[idx]), 0.01 * (hi[idx] - lo[idx]))
+    vecs = np.repeat(v0[None], idx.size, 0)
+    vecs[np.arange(idx.size), idx] += steps
+    sens = (predict_sets(model, an, vecs) - an.zhat[None]) / steps[:, None, None]
+    fit = linear_fit(y, _regressors(an, sens), an.weights, blocks, n_eff)
+    ratio = np.array([m["rms_over_noise"] for m in an.metrics().values()])
+    broad = int(np.sum(ratio > BROAD_NOISE_RATIO))
+    best = max((r.cv_explained for r in results), default=0.0)
+    first = bool(broad >= BROAD_CHANNELS and fit.p_value < an.settings.alpha
+                 and 1.0 - fit.cv_explained <= RECAL_UNEXPLAINED * (1.0 - best))
+    return {"parameters": int(idx.size), "explained": fit.explained,
+            "cv_explained": fit.cv_explained, "best_candidate_cv_explained": best,
+            "broad": broad, "calibrate_first": first}
 
 
 def _decide(an: Analysis, results: list, settings: AnalysisSettings) -> None:
@@ -286,6 +413,8 @@ def summary(diag: Diagnosis) -> dict:
         "settings": an.settings.as_dict(),
         "candidates": [r.to_json() for r in diag.ranked],
         "significant": diag.significant(),
+        "verdict": diag.verdict(),
+        "recalibration": diag.recalibration,
         "notes": diag.notes,
     }
     if diag.sindy is not None:

@@ -36,14 +36,15 @@ class FitResult:
 
 def predict_sets(model, an: Analysis, vectors: np.ndarray, reuse_hidden: bool = False
                  ) -> np.ndarray:
-    """(K, T, 6) predictions for K full parameter vectors of `model`."""
+    """(K, T, 6) predictions for K full parameter vectors of `model` (with the analysis'
+    known wind as the input, if it has one)."""
     vectors = np.atleast_2d(vectors)
     if reuse_hidden and an.hidden is not None:
-        return np.stack([predict(model, an.flight, params=v, hidden=an.hidden)
+        return np.stack([predict(model, an.flight, params=v, hidden=an.hidden, wind=an.wind)
                          for v in vectors])
     if vectors.shape[0] == 1:
-        return predict(model, an.flight, params=vectors[0])[None]
-    return predict(model, an.flight, params=vectors)
+        return predict(model, an.flight, params=vectors[0], wind=an.wind)[None]
+    return predict(model, an.flight, params=vectors, wind=an.wind)
 
 
 def weighted_residual(an: Analysis, zhat: np.ndarray) -> np.ndarray:

@@ -210,6 +210,28 @@ def _figures(out: Path, an, bd, diag, after_an) -> dict:
     return figs
 
 
+def _remaining_html(rem) -> str:
+    if not rem["channels_above"]:
+        return (f"<p id=remaining>What remains: every channel is within {rem['ratio']:g} x its "
+                "noise floor.</p>")
+    chans = ", ".join(f"{_esc(c)} {v:.1f} x" for c, v in rem["channels_above"].items())
+    rows = "".join(
+        f"<tr><td>{w['t_start_s']:.1f}–{w['t_end_s']:.1f}</td>"
+        f"<td class=l>{_esc(CHANNEL_LABELS[w['dominant_channel']])}</td>"
+        f"<td>{w['score']:.1f}</td><td class=l>"
+        + ", ".join(f"{_esc(k)} {v:.2f}" for k, v in w["regime"].items()) + "</td></tr>"
+        for w in rem["worst_windows"])
+    terms = "".join(f"<li>{_esc(v)}</li>" for v in rem["terms"].values())
+    return (f"<h3 id=remaining>What remains, and where</h3><p>Still above {rem['ratio']:g} x "
+            f"the noise floor: {chans}. Worst windows of the improved model:</p><table><tr>"
+            "<th>t [s]</th><th class=l>dominant</th><th>score</th><th class=l>regime "
+            f"(means)</th></tr>{rows}</table>"
+            + (f"<p>Named terms that explain what remains:</p><ul>{terms}</ul>" if terms
+               else "") + "<p class=note>A structure here is physics the model still lacks: "
+            "write it as a plugin effect (docs/model-discrepancy.md) and add it with "
+            "<code>airwake model add NAME --plugin FILE.py</code>.</p>")
+
+
 def _bin_label(b) -> str:
     lo, hi = b["lo"], b["hi"]
     if not np.isfinite(lo):
@@ -244,7 +266,8 @@ def _img(figs, key, alt) -> str:
     return f'<img src="{_esc(figs[key])}" alt="{_esc(alt)}">'
 
 
-def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=True) -> dict:
+def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=True,
+                 wind=None) -> dict:
     """Run the workflow and write DIR/index.html + figures (module docstring)."""
     from airwake.discrepancy import where
     from airwake.discrepancy.add import add_effect
@@ -252,30 +275,34 @@ def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=Tru
     from airwake.discrepancy.diagnose import diagnose
     from airwake.discrepancy.diagnose import summary as diag_summary
     from airwake.discrepancy.settings import AnalysisSettings
-    from airwake.heli import load_model, save_spec
+    from airwake.discrepancy.wind import on_flight
+    from airwake.heli import load_model, save_spec, spec_calibration
 
     settings = settings or AnalysisSettings()
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise DiscrepancyError(f"--out {out}: exists and is not a directory")
     base = load_model(model)
-    an = analyse(base, flight, settings, free_sim=settings.free_sim_windows > 0)
+    fl, wind_in = on_flight(wind, flight, settings)
+    an = analyse(base, fl, settings, free_sim=settings.free_sim_windows > 0, wind=wind_in)
     bd = where.breakdown(an)
-    diag = diagnose(base, an.flight, settings, analysis=an)
+    diag = diagnose(base, an.flight, settings, analysis=an,
+                    model_calibrated=spec_calibration(model) is not None)
+    verdict = diag.verdict()
     after_model, added, after_note = None, None, ""
     if after is not None:
         after_model = load_model(after)
         after_note = f"the model given with --after ({_esc(after)})"
-    else:
-        top = [r for r in diag.ranked if r.testable and r.significant]
-        if top:
-            added = add_effect(base, top[0].name, an.flight, settings=settings, analysis=an)
-            after_model = added.model
-            after_note = f"the model with the top candidate <b>{_esc(top[0].name)}</b> added"
+    elif verdict["kind"] == "effect":
+        added = add_effect(base, verdict["effect"], an.flight, settings=settings, analysis=an)
+        after_model = added.model
+        after_note = (f"the model with the top candidate <b>{_esc(verdict['effect'])}</b> "
+                      "added")
     out.mkdir(parents=True, exist_ok=True)
-    after_an = None
+    after_an = remaining = None
     if after_model is not None:
-        after_an = analyse(after_model, an.flight, settings, free_sim=False)
+        after_an = analyse(after_model, an.flight, settings, free_sim=False, wind=an.wind)
+        remaining = remaining_residual(after_an)
         if added is not None:
             save_spec(after_model, out / "model_after.toml",
                       description=f"report: {added.effect} added")
@@ -283,13 +310,17 @@ def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=Tru
     s_compare = summary(an)
     s_diag = diag_summary(diag)
     s_where = where.summary(bd)
+    wind_note = (f"the wind from {_esc(wind)} as the model's input" if wind is not None
+                 else "still air (no wind given)")
     page = _html(an, s_compare, s_where, s_diag, diag, figs, after_an, after_note, added,
-                 model, flight)
+                 model, flight, verdict, remaining, wind_note)
     (out / "index.html").write_text(page, encoding="utf-8")
     result = {"index": str(out / "index.html"), "figures": sorted(figs.values()),
               "compare": s_compare, "diagnose": s_diag, "where": s_where,
+              "verdict": verdict, "wind": None if wind is None else str(wind),
               "after": None if after_an is None else {
                   c: m["rms"] for c, m in after_an.metrics().items()},
+              "remaining": remaining,
               "added": None if added is None else added.to_json()}
     from airwake.discrepancy.commands import _jsonable
 
@@ -297,21 +328,36 @@ def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=Tru
     return result
 
 
-def _html(an, sc, sw, sd, diag, figs, after_an, after_note, added, model, flight) -> str:
+def remaining_residual(after_an, ratio: float = 2.0) -> dict:
+    """What the improved model still misses, and where: the channels above `ratio` x the
+    noise floor, the worst windows with their flight regime, and the named terms of a
+    sparse regression of what remains (JSON-ready)."""
+    from airwake.discrepancy import where
+    from airwake.discrepancy.sindy import sparse_regression
+
+    m = after_an.metrics()
+    bd = where.summary(where.breakdown(after_an))
+    above = {CHANNEL_LABELS[c]: float(v["rms_over_noise"]) for c, v in m.items()
+             if v["rms_over_noise"] > ratio}
+    sindy = sparse_regression(after_an)
+    terms = {CHANNEL_LABELS[c]: e["summary"] for c, e in sindy["channels"].items()
+             if CHANNEL_LABELS[c] in above}
+    return {"ratio": ratio, "channels_above": above,
+            "worst_windows": bd["worst_windows"][:3], "terms": terms}
+
+
+def _html(an, sc, sw, sd, diag, figs, after_an, after_note, added, model, flight,
+          verdict, remaining, wind_note) -> str:
     st = an.settings
     parts = [f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8>"
              f"<title>Model vs measurement — {_esc(Path(str(flight)).name)}</title>"
              f"<style>{CSS}</style></head><body>"]
     parts.append(f"<h1>Model versus measurement: {_esc(Path(str(flight)).name)}</h1>")
-    sig = diag.significant()
-    verdict = (f"The residual is best explained by <b>{_esc(sig[0])}</b>."
-               if sig else "No candidate effect is significant: the model agrees with this "
-               "flight within the thresholds.")
-    parts.append(f"<p class=big>{verdict}</p>")
+    parts.append(f"<p class=big id=verdict>{_esc(verdict['text'])}</p>")
     parts.append(
         f"<p class=note>Flight {_esc(flight)} ({sc['duration_s']:.1f} s, {sc['samples']} "
         f"samples, {sc['samples_analysed']} analysed); model {_esc(model)} with effects "
-        f"{_esc(', '.join(sc['model_effects']))}. Residual = measured − predicted "
+        f"{_esc(', '.join(sc['model_effects']))}, in {wind_note}. Residual = measured − predicted "
         f"(one-step-ahead). Every number uses the same analysis band: a zero-phase "
         f"Butterworth low-pass at {st.lowpass_hz:g} Hz (order {st.filter_order}, run forward "
         f"and back), and leaves out the first {st.skip_start_s:g} s of every run (start-up "
@@ -407,6 +453,9 @@ def _html(an, sc, sw, sd, diag, figs, after_an, after_note, added, model, flight
                          f"model_after.toml</a>).</p>")
         parts.append(_metrics_table(sc["channels"], after_an.metrics()))
         parts.append(_img(figs, "before_after", "before and after"))
+        parts.append(_remaining_html(remaining))
+    elif verdict["kind"] in ("wind", "calibrate"):
+        parts.append(f"<p>Nothing added: {_esc(verdict['text'])}</p>")
     else:
         parts.append("<p>Nothing added: no candidate is significant (run <code>airwake model "
                      "add EFFECT</code> to try one anyway, or give <code>--after</code>).</p>")
