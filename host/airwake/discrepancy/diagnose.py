@@ -47,9 +47,6 @@ INDISTINGUISHABLE = 0.9
 BROAD_NOISE_RATIO = 3.0
 BROAD_CHANNELS = 3
 RECAL_UNEXPLAINED = 0.5
-# unmodelled wind is the verdict when it is indistinguishable from the top candidate and
-# explains at least this share of what that one explains
-WIND_TIE = 0.9
 
 
 @dataclass
@@ -155,14 +152,14 @@ class Diagnosis:
                 "No candidate is significant: the model agrees with this flight within the "
                 "thresholds.")}
         lead = sig[0]
-        if wind is not None and (lead is wind or (
-                any(o["effect"] == lead.name for o in wind.indistinguishable_from)
-                and wind.explained >= WIND_TIE * lead.explained)):
+        if lead is wind:
             w = wind.wind or {}
             mean = w.get("mean_ned_m_s", [0.0, 0.0, 0.0])
-            also = "" if lead is wind else (
-                f" ({lead.name} explains as much but is indistinguishable from a wind on "
-                "this flight)")
+            runner = next((r for r in sig[1:] if any(
+                o["effect"] == r.name for o in wind.indistinguishable_from)), None)
+            also = "" if runner is None else (
+                f" ({runner.name} explains {100 * runner.explained:.0f} % but is "
+                "indistinguishable from a wind on this flight)")
             field = (f"a wind field of about ({mean[0]:+.1f}, {mean[1]:+.1f}, "
                      f"{mean[2]:+.1f}) m/s (N, E, D) with its gradients explains "
                      f"{100 * wind.explained:.0f} % of it")
@@ -176,9 +173,15 @@ class Diagnosis:
             return {"kind": "wind", "effect": None, "text": (
                 f"The residual is unmodelled wind, not a missing model effect{also}: "
                 f"{field}. Do not add an effect for it: {wind_mod.ADVICE}.")}
+        caveat = ""
+        if wind is not None and any(o["effect"] == WIND_CANDIDATE
+                                    for o in lead.indistinguishable_from):
+            caveat = (f" On this flight it is indistinguishable from a wind (unmodelled wind "
+                      f"explains {100 * wind.explained:.0f} %): if the flight was in wind, "
+                      f"{wind_mod.ADVICE}; otherwise separate them with: {lead.manoeuvre}.")
         return {"kind": "effect", "effect": lead.name, "text": (
             f"The residual is best explained by {lead.name} ({100 * lead.explained:.0f} % "
-            f"explained): {lead.reason}.")}
+            f"explained): {lead.reason}.{caveat}")}
 
     def top(self, k: int = 1) -> list[str]:
         return [c.name for c in self.ranked if c.testable][:k]

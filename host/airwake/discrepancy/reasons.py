@@ -72,8 +72,8 @@ def _ground_effect(an, res):
 def _lever(an, res):
     p = res.params
     return (f"ax, ay, az residuals ∝ ω̇×r + ω×(ω×r) with r ≈ ({p.get('x_m', 0):.3f}, "
-            f"{p.get('y_m', 0):.3f}, {p.get('z_m', 0):.3f}) m, angular channels unaffected: "
-            "IMU lever arm")
+            f"{p.get('y_m', 0):.3f}, {p.get('z_m', 0):.3f}) m (the angular channels only "
+            "through the IMU point's velocity the INS reports): IMU lever arm")
 
 
 def _servo(an, res):
