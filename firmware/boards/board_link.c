@@ -87,6 +87,27 @@ static void send_schema_entry(board_link_t *l, uint8_t index)
     (void)board_link_send(l, AW_ID_SCHEMA_ENTRY, &e, (uint32_t)l->hal->micros());
 }
 
+void board_link_declare_stamps(board_link_t *l, const board_stamp_t *stamps, uint8_t count)
+{
+    l->stamps = stamps;
+    l->stamp_count = count;
+}
+
+static void send_stamps(board_link_t *l)
+{
+    for (uint8_t i = 0; i < l->stamp_count; i++) {
+        const board_stamp_t *s = &l->stamps[i];
+        aw_stamp_latency_t e = {
+            .msg_id = s->msg_id,
+            .latency_us = s->latency_us,
+            .stamp_event = s->stamp_event,
+            .entry_index = i,
+            .entry_count = l->stamp_count,
+        };
+        (void)board_link_send(l, AW_ID_STAMP_LATENCY, &e, (uint32_t)l->hal->micros());
+    }
+}
+
 static void send_heartbeat(board_link_t *l, uint32_t extra_overruns)
 {
     const hal_t *hal = l->hal;
@@ -177,6 +198,7 @@ uint64_t board_link_poll(board_link_t *l, uint32_t extra_overruns)
     uint64_t now = hal->micros();
     if (now >= l->next_heartbeat_us) {
         send_heartbeat(l, extra_overruns);
+        send_stamps(l);
         l->next_heartbeat_us += BOARD_LINK_HEARTBEAT_US;
         if (l->next_heartbeat_us <= now) {
             l->next_heartbeat_us = now + BOARD_LINK_HEARTBEAT_US;

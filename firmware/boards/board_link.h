@@ -1,8 +1,8 @@
 /*
  * board_link.h — what every board does on its protocol link, in one place:
  * frames out (per-message sequence numbers, origin board in the flags), the HELLO
- * heartbeat with counters at 1 Hz, the schema_entry round robin (all entries at
- * boot, then one every 250 ms), host frames in (streaming decoder), time-sync
+ * heartbeat with counters at 1 Hz followed by the board's stamp_latency entries, the
+ * schema_entry round robin (all entries at boot, then one every 250 ms), host frames in (streaming decoder), time-sync
  * replies, and a persistent boot counter.
  *
  * Board-specific host frames (losa_raw_request, marker_command) go to the board's
@@ -23,6 +23,14 @@
 /* Persistent config layout used by the link: [0..3] magic, [4..7] boot count. */
 #define BOARD_LINK_CONFIG_MAGIC 0x43425741u /* "AWBC" */
 
+/* What one message's board_time_us marks and how long after the sample instant of its
+ * data that is, from the board's own constants (sent as stamp_latency entries). */
+typedef struct {
+    uint8_t msg_id;
+    uint8_t stamp_event; /* AW_STAMP_LATENCY_STAMP_EVENT_* */
+    uint32_t latency_us;
+} board_stamp_t;
+
 typedef void (*board_link_rx_t)(void *ctx, const aw_frame_t *frame);
 typedef void (*board_link_tap_t)(void *ctx, const uint8_t *data, size_t len);
 
@@ -34,6 +42,8 @@ typedef struct {
     uint8_t id_count;
     uint8_t next_entry;
     bool announce_all;  /* send every schema entry on the next poll (boot) */
+    const board_stamp_t *stamps; /* declared after every heartbeat (stamp_latency) */
+    uint8_t stamp_count;
     uint8_t seq[256];   /* next sequence number per msg_id */
     uint32_t frames_sent;
     uint32_t bytes_sent;
@@ -55,6 +65,10 @@ typedef struct {
  * HELLO and every schema entry. */
 void board_link_init(board_link_t *l, const hal_t *hal, uint8_t board_id, hal_port_t port,
                      const uint8_t *ids, uint8_t id_count, board_link_rx_t on_rx, void *ctx);
+
+/* The board's stamp declarations (a static table): one stamp_latency entry each after
+ * every heartbeat, the first right after the HELLO. */
+void board_link_declare_stamps(board_link_t *l, const board_stamp_t *stamps, uint8_t count);
 
 /* Encodes and queues one message (msg points to its aw_<name>_t). False when the
  * port's transmit ring had no room (the bytes are counted in the heartbeat's

@@ -6,7 +6,9 @@
  * The rover forwards every solution as it arrives (NAV_FORWARD_ALL); the base,
  * whose Piksi runs in base mode, keeps the latest position and GPS time and sends
  * them with its 1 Hz status (NAV_STATUS_ONLY). Every frame is stamped with the
- * board clock when the peer's packet was parsed.
+ * board clock when the peer's packet was parsed (its last byte in); for ins frames
+ * the board declares how long after the sample instant that is
+ * (NAV_INS_STAMP_LATENCY_US).
  */
 #ifndef AW_NAV_PORTS_H
 #define AW_NAV_PORTS_H
@@ -20,6 +22,15 @@
 #include "rover/vn200.h"
 
 #define NAV_STATUS_PERIOD_US 1000000u
+/* The VN200's serial port as configured (its Binary Output 1 goes out at this rate;
+ * board_pins.h wires HAL_PORT_INS at the same baud on the rover and the base). */
+#define NAV_INS_BAUD 921600u
+/* An ins frame is stamped when its packet's last byte has been parsed: the VN200's
+ * output latency plus the packet's time on the line (8N1: 10 bit times per byte)
+ * after the sample instant it describes. Declared to the host (stamp_latency). */
+#define NAV_INS_STAMP_LATENCY_US \
+    (VN200_OUTPUT_LATENCY_US + \
+     (VN200_PACKET_BYTES * 10u * 1000000u + NAV_INS_BAUD / 2u) / NAV_INS_BAUD)
 
 typedef enum { NAV_FORWARD_ALL = 0, NAV_STATUS_ONLY = 1 } nav_policy_t;
 

@@ -158,6 +158,33 @@ int aw_encode_log_text(uint8_t *out, size_t cap, uint8_t seq, uint8_t flags,
     return aw_frame_encode(out, cap, &h, payload, sizeof payload);
 }
 
+void aw_pack_stamp_latency(uint8_t *out, const aw_stamp_latency_t *m)
+{
+    aw_put_u8(out + 0u, m->msg_id);
+    aw_put_u32(out + 1u, m->latency_us);
+    aw_put_u8(out + 5u, m->stamp_event);
+    aw_put_u8(out + 6u, m->entry_index);
+    aw_put_u8(out + 7u, m->entry_count);
+}
+
+void aw_unpack_stamp_latency(aw_stamp_latency_t *m, const uint8_t *in)
+{
+    aw_get_u8(&m->msg_id, in + 0u);
+    aw_get_u32(&m->latency_us, in + 1u);
+    aw_get_u8(&m->stamp_event, in + 5u);
+    aw_get_u8(&m->entry_index, in + 6u);
+    aw_get_u8(&m->entry_count, in + 7u);
+}
+
+int aw_encode_stamp_latency(uint8_t *out, size_t cap, uint8_t seq, uint8_t flags,
+        uint32_t board_time_us, const aw_stamp_latency_t *m)
+{
+    uint8_t payload[AW_SIZE_STAMP_LATENCY];
+    aw_pack_stamp_latency(payload, m);
+    const aw_header_t h = {AW_ID_STAMP_LATENCY, seq, flags, board_time_us};
+    return aw_frame_encode(out, cap, &h, payload, sizeof payload);
+}
+
 void aw_pack_imu(uint8_t *out, const aw_imu_t *m)
 {
     for (size_t i = 0; i < 3u; ++i) {
@@ -692,6 +719,7 @@ const aw_msg_info_t aw_msg_table[AW_MSG_COUNT] = {
     {AW_ID_TIME_SYNC_REQUEST, AW_SIZE_TIME_SYNC_REQUEST, AW_SEED_TIME_SYNC_REQUEST, AW_HASH_TIME_SYNC_REQUEST, sizeof(aw_time_sync_request_t), "time_sync_request"},
     {AW_ID_TIME_SYNC_REPLY, AW_SIZE_TIME_SYNC_REPLY, AW_SEED_TIME_SYNC_REPLY, AW_HASH_TIME_SYNC_REPLY, sizeof(aw_time_sync_reply_t), "time_sync_reply"},
     {AW_ID_LOG_TEXT, AW_SIZE_LOG_TEXT, AW_SEED_LOG_TEXT, AW_HASH_LOG_TEXT, sizeof(aw_log_text_t), "log_text"},
+    {AW_ID_STAMP_LATENCY, AW_SIZE_STAMP_LATENCY, AW_SEED_STAMP_LATENCY, AW_HASH_STAMP_LATENCY, sizeof(aw_stamp_latency_t), "stamp_latency"},
     {AW_ID_IMU, AW_SIZE_IMU, AW_SEED_IMU, AW_HASH_IMU, sizeof(aw_imu_t), "imu"},
     {AW_ID_LOSA_PEAKS, AW_SIZE_LOSA_PEAKS, AW_SEED_LOSA_PEAKS, AW_HASH_LOSA_PEAKS, sizeof(aw_losa_peaks_t), "losa_peaks"},
     {AW_ID_LOSA_RAW_LINE, AW_SIZE_LOSA_RAW_LINE, AW_SEED_LOSA_RAW_LINE, AW_HASH_LOSA_RAW_LINE, sizeof(aw_losa_raw_line_t), "losa_raw_line"},
@@ -717,22 +745,23 @@ static const uint8_t aw_row_of[256] = {
     [0x03] = 3,
     [0x04] = 4,
     [0x05] = 5,
-    [0x10] = 6,
-    [0x20] = 7,
-    [0x21] = 8,
-    [0x22] = 9,
-    [0x30] = 10,
-    [0x31] = 11,
-    [0x40] = 12,
-    [0x41] = 13,
-    [0x42] = 14,
-    [0x43] = 15,
-    [0x44] = 16,
-    [0x45] = 17,
-    [0x46] = 18,
-    [0x47] = 19,
-    [0x50] = 20,
-    [0x60] = 21,
+    [0x06] = 6,
+    [0x10] = 7,
+    [0x20] = 8,
+    [0x21] = 9,
+    [0x22] = 10,
+    [0x30] = 11,
+    [0x31] = 12,
+    [0x40] = 13,
+    [0x41] = 14,
+    [0x42] = 15,
+    [0x43] = 16,
+    [0x44] = 17,
+    [0x45] = 18,
+    [0x46] = 19,
+    [0x47] = 20,
+    [0x50] = 21,
+    [0x60] = 22,
 };
 
 int aw_msg_index(uint8_t msg_id)
@@ -770,6 +799,9 @@ int aw_pack_msg(uint8_t msg_id, uint8_t *out, size_t cap, const void *msg)
         break;
     case AW_ID_LOG_TEXT:
         aw_pack_log_text(out, (const aw_log_text_t *)msg);
+        break;
+    case AW_ID_STAMP_LATENCY:
+        aw_pack_stamp_latency(out, (const aw_stamp_latency_t *)msg);
         break;
     case AW_ID_IMU:
         aw_pack_imu(out, (const aw_imu_t *)msg);
@@ -849,6 +881,9 @@ int aw_unpack_msg(uint8_t msg_id, void *msg, const uint8_t *in, size_t len)
         break;
     case AW_ID_LOG_TEXT:
         aw_unpack_log_text((aw_log_text_t *)msg, in);
+        break;
+    case AW_ID_STAMP_LATENCY:
+        aw_unpack_stamp_latency((aw_stamp_latency_t *)msg, in);
         break;
     case AW_ID_IMU:
         aw_unpack_imu((aw_imu_t *)msg, in);

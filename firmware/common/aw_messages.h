@@ -16,8 +16,8 @@
 extern "C" {
 #endif
 
-#define AW_SCHEMA_HASH 0xBDBBD7F2u
-#define AW_MSG_COUNT 21u
+#define AW_SCHEMA_HASH 0xE6AFF602u
+#define AW_MSG_COUNT 22u
 #define AW_HEADER_SIZE 7u
 #define AW_CRC_SIZE 2u
 #define AW_FRAME_OVERHEAD 9u
@@ -171,6 +171,35 @@ void aw_pack_log_text(uint8_t *out, const aw_log_text_t *m);
 void aw_unpack_log_text(aw_log_text_t *m, const uint8_t *in);
 int aw_encode_log_text(uint8_t *out, size_t cap, uint8_t seq, uint8_t flags,
         uint32_t board_time_us, const aw_log_text_t *m);
+
+/* ---- stamp_latency (0x06) ---- */
+/*
+ * What one message's board_time_us marks and how long after the instant its data describe
+ * (the sample instant) that is, as far as the sender's firmware knows it: fixed parts only
+ * (a peer's documented output latency, a packet's time on a UART at the configured baud),
+ * from the firmware's own constants. The host subtracts it from the mapped times when it
+ * exports a flight table. A board sends one entry per message it describes after each
+ * heartbeat, so a receiver that joins late learns them within a second.
+ */
+#define AW_ID_STAMP_LATENCY 0x06u
+#define AW_SIZE_STAMP_LATENCY 8u
+#define AW_HASH_STAMP_LATENCY 0x9E56D74Du
+#define AW_SEED_STAMP_LATENCY 0x491Bu
+#define AW_WIRE_MAX_STAMP_LATENCY 20u
+#define AW_STAMP_LATENCY_STAMP_EVENT_TRANSMIT 0u
+#define AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_END 1u
+#define AW_STAMP_LATENCY_STAMP_EVENT_RC_FRAME_START 2u
+typedef struct {
+    uint8_t msg_id; /* the message id this entry describes */
+    uint32_t latency_us; /* board_time_us of that message minus the sample instant of its data [us] */
+    uint8_t stamp_event; /* what board_time_us of that message marks */
+    uint8_t entry_index; /* index of this entry in the sender's list (0 .. entry_count-1) */
+    uint8_t entry_count; /* number of entries the sender declares */
+} aw_stamp_latency_t;
+void aw_pack_stamp_latency(uint8_t *out, const aw_stamp_latency_t *m);
+void aw_unpack_stamp_latency(aw_stamp_latency_t *m, const uint8_t *in);
+int aw_encode_stamp_latency(uint8_t *out, size_t cap, uint8_t seq, uint8_t flags,
+        uint32_t board_time_us, const aw_stamp_latency_t *m);
 
 /* ---- imu (0x10) ---- */
 /*
@@ -588,6 +617,7 @@ typedef union {
     aw_time_sync_request_t time_sync_request;
     aw_time_sync_reply_t time_sync_reply;
     aw_log_text_t log_text;
+    aw_stamp_latency_t stamp_latency;
     aw_imu_t imu;
     aw_losa_peaks_t losa_peaks;
     aw_losa_raw_line_t losa_raw_line;

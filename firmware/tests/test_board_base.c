@@ -120,7 +120,7 @@ static void pulse(hal_capture_t ch, uint32_t rise_us, uint32_t width_us)
     fake_capture_push(ch, rise_us + width_us, 0);
 }
 
-/* The pilot's sticks: five channels measured from edges, sent at 50 Hz. */
+/* The pilot's sticks: five channels measured from edges, one frame per RC frame. */
 static int test_base_measures_five_rc_channels_into_pilot_inputs(void)
 {
     const hal_t *hal = fake_hal_init();
@@ -154,6 +154,159 @@ static int test_base_measures_five_rc_channels_into_pilot_inputs(void)
     return 0;
 }
 
+/* Runs the board to an edge's instant and queues the edge there, as the capture
+ * interrupt would. */
+static void edge_at(const hal_t *hal, hal_capture_t ch, uint64_t t_us, uint8_t level)
+{
+    test_run_until(hal, t_us);
+    fake_capture_push(ch, (uint32_t)t_us, level);
+}
+
+/* One RC frame from `start`: the five channels back to back (a sequential receiver),
+ * channel `skip` (0..4, or 5 for none) missing its pulse. */
+static void rc_frame(const hal_t *hal, uint64_t start, const uint32_t width[5], int skip)
+{
+    uint64_t t = start;
+    for (int c = 0; c < 5; c++) {
+        if (c != skip) {
+            edge_at(hal, (hal_capture_t)(HAL_CAPTURE_RC1 + c), t, 1);
+            edge_at(hal, (hal_capture_t)(HAL_CAPTURE_RC1 + c), t + width[c], 0);
+        }
+        t += width[c];
+    }
+}
+
+/* The pilot_inputs frames stamped `t_us` in what was taken from the host port. */
+static size_t pilot_at(const test_frames_t *t, uint32_t t_us, aw_pilot_inputs_t *m)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < t->n; i++) {
+        if (t->f[i].h.msg_id == AW_ID_PILOT_INPUTS && t->f[i].h.board_time_us == t_us) {
+            aw_unpack_msg(AW_ID_PILOT_INPUTS, m, t->f[i].payload, t->f[i].len);
+            n++;
+        }
+    }
+    return n;
+}
+
+/* The analysis lines pilot inputs up with the INS by their stamps: a frame stamped at a
+ * 50 Hz tick of the board's clock would lag its commands by the phase between the tick
+ * and the receiver's frame (0-20 ms, drifting), so each frame is stamped at its start and
+ * sent as soon as its last pulse is in, whatever the receiver's frame rate (47 Hz here). */
+static int test_base_stamps_each_rc_frame_at_its_first_rising_edge(void)
+{
+    const hal_t *hal = fake_hal_init();
+    board_init(hal);
+    test_frames_init(&out);
+    const uint32_t width[5] = {1100, 1300, 1500, 1700, 1900};
+    const uint64_t period = 21277u, t0 = fake.now_us + 3700u;
+    for (int k = 0; k < 47; k++) {
+        uint64_t start = t0 + (uint64_t)k * period;
+        if (k == 10) {
+            /* not sent before the frame's last pulse has ended */
+            uint64_t last_fall = start + 1100u + 1300u + 1500u + 1700u + 1900u;
+            rc_frame(hal, start, width, 5);
+            test_run_until(hal, last_fall - 1u);
+            test_frames_take(&out, HAL_PORT_HOST);
+            aw_pilot_inputs_t m;
+            CHECK(pilot_at(&out, (uint32_t)start, &m) == 0);
+            continue;
+        }
+        rc_frame(hal, start, width, 5);
+    }
+    test_run_until(hal, t0 + 47u * period);
+    test_frames_take(&out, HAL_PORT_HOST);
+    for (int k = 2; k < 47; k++) { /* frames 0 and 1 are gathered while channels appear */
+        aw_pilot_inputs_t m = {0};
+        CHECK(pilot_at(&out, (uint32_t)(t0 + (uint64_t)k * period), &m) == 1);
+        CHECK(m.valid_mask == 0x1F);
+        for (int c = 0; c < 5; c++) {
+            CHECK(m.pwm_us[c] == width[c]);
+        }
+    }
+    CHECK(test_count(&out, AW_ID_PILOT_INPUTS) <= 47u + 2u);
+    return 0;
+}
+
+/* A channel that misses its pulse must not hold the frame back (nor merge two frames):
+ * the frame goes out 3/4 of a period after its start with that channel's last width. */
+static int test_base_sends_a_frame_whose_channel_missed_its_pulse(void)
+{
+    const hal_t *hal = fake_hal_init();
+    board_init(hal);
+    test_frames_init(&out);
+    const uint32_t width[5] = {1500, 1500, 1500, 1500, 1700};
+    const uint32_t moved[5] = {1600, 1600, 1200, 1600, 1700};
+    const uint64_t period = 20000u, t0 = fake.now_us + 1000u;
+    for (int k = 0; k < 8; k++) {
+        rc_frame(hal, t0 + (uint64_t)k * period, k < 5 ? width : moved, k == 5 ? 2 : 5);
+    }
+    test_run_until(hal, t0 + 8u * period);
+    test_frames_take(&out, HAL_PORT_HOST);
+    aw_pilot_inputs_t m = {0};
+    CHECK(pilot_at(&out, (uint32_t)(t0 + 5u * period), &m) == 1);
+    CHECK(m.pwm_us[0] == 1600 && m.pwm_us[2] == 1500 && m.valid_mask == 0x1F);
+    CHECK(pilot_at(&out, (uint32_t)(t0 + 6u * period), &m) == 1);
+    CHECK(m.pwm_us[2] == 1500); /* a 300 us jump waits for its confirmation */
+    CHECK(pilot_at(&out, (uint32_t)(t0 + 7u * period), &m) == 1);
+    CHECK(m.pwm_us[2] == 1200);
+    return 0;
+}
+
+/* With the receiver off the host still hears from the pilot-input stream (every channel
+ * invalid), at the nominal 50 Hz. */
+static int test_base_keeps_pilot_inputs_alive_without_a_receiver(void)
+{
+    const hal_t *hal = fake_hal_init();
+    board_init(hal);
+    test_frames_init(&out);
+    test_run_until(hal, fake.now_us + 1000000u);
+    test_frames_take(&out, HAL_PORT_HOST);
+    size_t n = 0;
+    for (size_t i = 0; i < out.n; i++) {
+        if (out.f[i].h.msg_id == AW_ID_PILOT_INPUTS) {
+            aw_pilot_inputs_t m;
+            aw_unpack_msg(AW_ID_PILOT_INPUTS, &m, out.f[i].payload, out.f[i].len);
+            CHECK(m.valid_mask == 0);
+            n++;
+        }
+    }
+    CHECK(n >= 46 && n <= 51);
+    return 0;
+}
+
+/* The host removes what the board declares from each stream's times; a board that
+ * declared nothing (or wrong numbers) would leave a known delay in every flight table. */
+static int test_base_declares_its_stamp_latencies_after_each_heartbeat(void)
+{
+    const hal_t *hal = fake_hal_init();
+    board_init(hal);
+    test_frames_init(&out);
+    test_run_until(hal, fake.now_us + 2500000u);
+    test_frames_take(&out, HAL_PORT_HOST);
+    CHECK(test_count(&out, AW_ID_HEARTBEAT) == 3);
+    CHECK(test_count(&out, AW_ID_STAMP_LATENCY) == 6);
+    bool ins = false, pilot = false;
+    for (size_t i = 0; i < out.n; i++) {
+        if (out.f[i].h.msg_id != AW_ID_STAMP_LATENCY) {
+            continue;
+        }
+        aw_stamp_latency_t e;
+        CHECK(aw_unpack_msg(AW_ID_STAMP_LATENCY, &e, out.f[i].payload, out.f[i].len) >= 0);
+        CHECK(e.entry_count == 2);
+        if (e.msg_id == AW_ID_INS) {
+            /* VN200 output latency 500 us + 88 bytes at 921600 baud (954.9 us) */
+            CHECK(e.latency_us == 1455u && e.stamp_event == AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_END);
+            ins = true;
+        } else if (e.msg_id == AW_ID_PILOT_INPUTS) {
+            CHECK(e.latency_us == 0u && e.stamp_event == AW_STAMP_LATENCY_STAMP_EVENT_RC_FRAME_START);
+            pilot = true;
+        }
+    }
+    CHECK(ins && pilot);
+    return 0;
+}
+
 /* The rover's clock can only be mapped if host time-sync requests reach it. */
 static int test_base_relays_host_bytes_to_the_rover_unchanged(void)
 {
@@ -184,6 +337,10 @@ int main(void)
     fails += test_base_passes_corrupt_rover_frames_on_and_keeps_the_next();
     fails += test_base_measures_five_rc_channels_into_pilot_inputs();
     fails += test_base_relays_host_bytes_to_the_rover_unchanged();
+    fails += test_base_stamps_each_rc_frame_at_its_first_rising_edge();
+    fails += test_base_sends_a_frame_whose_channel_missed_its_pulse();
+    fails += test_base_keeps_pilot_inputs_alive_without_a_receiver();
+    fails += test_base_declares_its_stamp_latencies_after_each_heartbeat();
     if (fails) {
         fprintf(stderr, "test_board_base: %d failed\n", fails);
         return 1;

@@ -88,6 +88,28 @@ static int test_rover_turns_each_vn200_packet_into_an_ins_frame(void)
     return 0;
 }
 
+/* An ins frame is stamped when its packet's last byte is parsed: the host must learn
+ * from the rover how long after the sample that is, or every INS row is late by it. */
+static int test_rover_declares_the_ins_stamp_latency_from_its_constants(void)
+{
+    const hal_t *hal = fake_hal_init();
+    board_init(hal);
+    test_frames_init(&out);
+    test_run_until(hal, fake.now_us + 1500000u);
+    test_frames_take(&out, HAL_PORT_HOST);
+    CHECK(test_count(&out, AW_ID_STAMP_LATENCY) == 2); /* one per heartbeat */
+    for (size_t i = 0; i < out.n; i++) {
+        if (out.f[i].h.msg_id == AW_ID_STAMP_LATENCY) {
+            aw_stamp_latency_t e;
+            aw_unpack_msg(AW_ID_STAMP_LATENCY, &e, out.f[i].payload, out.f[i].len);
+            CHECK(e.msg_id == AW_ID_INS && e.entry_index == 0 && e.entry_count == 1);
+            CHECK(e.latency_us == NAV_INS_STAMP_LATENCY_US && e.latency_us == 1455u);
+            CHECK(e.stamp_event == AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_END);
+        }
+    }
+    return 0;
+}
+
 /* The RTK baseline is the helicopter's position relative to the ship. */
 static int test_rover_forwards_sbp_baseline_as_rtk_baseline(void)
 {
@@ -173,6 +195,7 @@ int main(void)
     fails += test_rover_turns_each_vn200_packet_into_an_ins_frame();
     fails += test_rover_forwards_sbp_baseline_as_rtk_baseline();
     fails += test_rover_measures_rotor_speed_and_tail_servo_from_edges();
+    fails += test_rover_declares_the_ins_stamp_latency_from_its_constants();
     if (fails) {
         fprintf(stderr, "test_board_rover: %d failed\n", fails);
         return 1;

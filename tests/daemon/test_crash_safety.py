@@ -10,6 +10,7 @@ import time
 import numpy as np
 import pytest
 from airwake.daemon.fake_boards import FakeBoard
+from airwake.link.messages import SCHEMA_HASH
 from airwake.record.reader import open_recording, recover_recording
 from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
@@ -91,7 +92,7 @@ def test_signal_shuts_down_cleanly_into_indexed_segments(run_dir, sig):
     # every segment repeats the recording's metadata and the protocol definitions
     for seg in rec.segments:
         one = open_recording(seg.path)
-        assert one.metadata["ports"] and one.protocol["schema_hash"] == "0xBDBBD7F2"
+        assert one.metadata["ports"] and one.protocol["schema_hash"] == f"0x{SCHEMA_HASH:08X}"
         assert set(one.boards) == {"losa", "marker", "rover", "base"}
 
 

@@ -20,11 +20,16 @@ T0_NS = 7_000_000_000_000
 
 
 def write_synthetic(directory, duration_s: float = 30.0, reboot_at_s: float | None = None,
-                    seed: int = 0, lose_clock_frames_s: float = 0.0):
-    """The base port (base + forwarded rover) as the daemon would record it."""
+                    seed: int = 0, lose_clock_frames_s: float = 0.0,
+                    stamp_latency_us: dict | None = None):
+    """The base port (base + forwarded rover) as the daemon would record it;
+    `stamp_latency_us` {board: {message: us}}: stamps that much late, and declared."""
     rng = np.random.default_rng(seed)
-    rover = BoardSim("rover", drift_ppm=80.0, clock_offset_us=(1 << 32) - 9_000_000)
-    base = BoardSim("base", drift_ppm=-40.0, clock_offset_us=12_000_000)
+    lat = stamp_latency_us or {}
+    rover = BoardSim("rover", drift_ppm=80.0, clock_offset_us=(1 << 32) - 9_000_000,
+                     stamp_latency_us=lat.get("rover"))
+    base = BoardSim("base", drift_ppm=-40.0, clock_offset_us=12_000_000,
+                    stamp_latency_us=lat.get("base"))
     start_us = T0_NS / 1000 + 200_000
     for sim in (rover, base):
         sim.boot(start_us)
@@ -84,6 +89,100 @@ def test_export_maps_board_times_onto_the_host_timeline(tmp_path):
     h = df["height_agl_m"].to_numpy()
     known = np.isfinite(h)  # inf only after the last 10 Hz RTK epoch
     assert known.mean() > 0.98 and np.all((h[known] > 4.39) & (h[known] < 4.61))
+
+
+def _ins_truth_s(rover, duration_s: float) -> np.ndarray:
+    """The rover's INS sample instants on the table's timeline (s)."""
+    return (rover.boot_mono_us + np.arange(0, duration_s, 1 / 150) * 1e6 - T0_NS / 1000) / 1e6
+
+
+def _nearest_error_s(truth: np.ndarray, t: np.ndarray) -> np.ndarray:
+    i = np.clip(np.searchsorted(truth, t), 1, len(truth) - 1)
+    return np.where(np.abs(truth[i] - t) < np.abs(truth[i - 1] - t), truth[i] - t,
+                    truth[i - 1] - t)
+
+
+def test_export_removes_exactly_the_stamp_latencies_the_boards_declare(tmp_path):
+    # Why: a board that stamps its INS rows at the packet's last byte makes every state
+    # late against the pilot inputs, which the analysis reads as servo lag
+    declared = {"rover": {"ins": 1455}, "base": {"pilot_inputs": 7000}}
+    rover, _ = write_synthetic(tmp_path / "rec", duration_s=20.0, stamp_latency_us=declared)
+    rec = open_recording(tmp_path / "rec")
+    fixed = export_recording(rec)
+    raw = export_recording(rec, remove_stamp_latency=False)
+    truth = _ins_truth_s(rover, 20.0)
+    err_fixed = _nearest_error_s(truth, fixed.df["t_s"].to_numpy())
+    err_raw = _nearest_error_s(truth, raw.df["t_s"].to_numpy())
+    assert np.max(np.abs(err_fixed)) < 0.5e-3
+    assert abs(np.median(err_raw) + 1.455e-3) < 0.1e-3  # rows 1.455 ms late as stamped
+    # the same clock fit, every row moved by exactly the declared latency (the pilot
+    # inputs, moved by 7 ms, may cover one row less or more at the ends)
+    n = min(len(fixed.df), len(raw.df))
+    assert abs(len(fixed.df) - len(raw.df)) <= 1 and n > 0.95 * 150 * 20
+    np.testing.assert_allclose(raw.df["t_s"].to_numpy()[:n] - fixed.df["t_s"].to_numpy()[:n],
+                               1.455e-3, atol=1e-9)
+    meta = fixed.metadata["stamp_latency"]
+    assert meta == {"removed": True, "note": None, "streams": {
+        "base/pilot_inputs": {"latency_ms": 7.0, "stamp_event": "peer_packet_end"},
+        "rover/ins": {"latency_ms": 1.455, "stamp_event": "peer_packet_end"}}}
+    assert raw.metadata["stamp_latency"]["removed"] is False
+    assert "not removed" in raw.metadata["stamp_latency"]["note"]
+
+
+def test_remove_latencies_shifts_each_declared_stream_and_nothing_else():
+    from airwake.link.messages import BY_NAME
+    from airwake.record.flight_builder import message_table
+    from airwake.record.latency import declared_latencies, remove_latencies
+
+    t = np.arange(0.0, 2.0, 0.02)
+    streams = {
+        "base/pilot_inputs": message_table("pilot_inputs", t, valid_mask=0x1F),
+        "rover/ins": message_table("ins", t),
+        "rover/rotor_speed": message_table("rotor_speed", t),
+        "rover/stamp_latency": message_table(
+            "stamp_latency", [0.5, 1.5], msg_id=BY_NAME["ins"].id, latency_us=[1400, 1455],
+            stamp_event=1, entry_count=1),
+        "base/stamp_latency": message_table(
+            "stamp_latency", [0.5], msg_id=BY_NAME["pilot_inputs"].id, latency_us=250,
+            stamp_event=2, entry_count=2),
+    }
+    declared = declared_latencies(streams)
+    assert set(declared) == {"rover/ins", "base/pilot_inputs"}
+    assert declared["rover/ins"].latency_us == 1455  # the latest declaration
+    assert declared["rover/ins"].values_us == (1400, 1455)
+    assert declared["base/pilot_inputs"].stamp_event == "rc_frame_start"
+    out = remove_latencies(streams, declared)
+    np.testing.assert_array_equal(out["rover/ins"].t_s, t - 1455e-6)
+    np.testing.assert_array_equal(out["base/pilot_inputs"].t_s, t - 250e-6)
+    assert out["rover/rotor_speed"] is streams["rover/rotor_speed"]
+    assert out["rover/ins"].data is streams["rover/ins"].data
+
+
+def test_export_of_a_recording_without_declarations_is_unchanged_with_a_note(tmp_path,
+                                                                            capsys):
+    # recordings from boards that declared nothing export as they always did
+    write_synthetic(tmp_path / "rec", duration_s=12.0)
+    rec = open_recording(tmp_path / "rec")
+    a = export_recording(rec)
+    b = export_recording(rec, remove_stamp_latency=False)
+    np.testing.assert_array_equal(a.df["t_s"], b.df["t_s"])
+    assert a.metadata["stamp_latency"]["removed"] is False
+    assert a.metadata["stamp_latency"]["streams"] == {}
+    assert main(["export", str(tmp_path / "rec"), "--out", str(tmp_path / "f.csv")]) == 0
+    notes = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("note:")]
+    assert len(notes) == 1 and "no stamp_latency frames" in notes[0]
+
+
+def test_export_command_can_keep_the_boards_stamps(tmp_path, capsys):
+    write_synthetic(tmp_path / "rec", duration_s=12.0,
+                    stamp_latency_us={"rover": {"ins": 2000}})
+    for flag, removed in (([], True), (["--no-latency-correction"], False)):
+        out = tmp_path / f"f{len(flag)}.parquet"
+        assert main(["export", str(tmp_path / "rec"), "--out", str(out), *flag]) == 0
+        meta = load_flight_table(out).metadata["stamp_latency"]
+        assert meta["removed"] is removed
+        assert meta["streams"]["rover/ins"]["latency_ms"] == 2.0
+    assert "--no-latency-correction" in capsys.readouterr().out
 
 
 def test_export_across_a_rover_reset(tmp_path):

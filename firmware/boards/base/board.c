@@ -8,7 +8,12 @@ base_board_t base_board;
 static const uint8_t schema_ids[] = {
     AW_ID_HEARTBEAT, AW_ID_SCHEMA_ENTRY, AW_ID_TIME_SYNC_REQUEST, AW_ID_TIME_SYNC_REPLY,
     AW_ID_INS,       AW_ID_RTK_POS,      AW_ID_GPS_TIME,          AW_ID_RTK_STATUS,
-    AW_ID_PILOT_INPUTS,
+    AW_ID_PILOT_INPUTS, AW_ID_STAMP_LATENCY,
+};
+
+static const board_stamp_t stamps[] = {
+    {AW_ID_INS, AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_END, NAV_INS_STAMP_LATENCY_US},
+    {AW_ID_PILOT_INPUTS, AW_STAMP_LATENCY_STAMP_EVENT_RC_FRAME_START, BASE_RC_STAMP_LATENCY_US},
 };
 
 static const hal_capture_t rc_capture[BASE_RC_CHANNELS] = {
@@ -32,6 +37,7 @@ void board_init(const hal_t *hal)
     board_link_init(&b->link, hal, BOARD_ID, HAL_PORT_HOST, schema_ids,
                     (uint8_t)sizeof(schema_ids), NULL, b);
     b->link.on_bytes = relay_host_bytes;
+    board_link_declare_stamps(&b->link, stamps, (uint8_t)(sizeof(stamps) / sizeof(stamps[0])));
     nav_ports_init(&b->nav, hal, &b->link, NAV_STATUS_ONLY);
     b->rc_cfg = pwm_capture_default_cfg();
     for (int i = 0; i < BASE_RC_CHANNELS; i++) {
@@ -92,19 +98,58 @@ static void drain_captures(base_board_t *b, const hal_t *hal)
     }
 }
 
-static void send_pilot_inputs(base_board_t *b, uint32_t now)
+static void send_pilot_inputs(base_board_t *b, uint32_t stamp_us, uint64_t now)
 {
     aw_pilot_inputs_t m = {0};
     for (int c = 0; c < BASE_RC_CHANNELS; c++) {
         pwm_channel_out_t o;
-        pwm_channel_get(&b->rc[c], &b->rc_cfg, now, &o);
+        pwm_channel_get(&b->rc[c], &b->rc_cfg, (uint32_t)now, &o);
         m.pwm_us[c] = o.width_us;
         m.glitch_count[c] = (uint16_t)o.glitches;
         if (o.valid) {
             m.valid_mask |= (uint8_t)(1u << c);
         }
+        b->sent_pulses[c] = b->rc[c].pulses;
     }
-    (void)board_link_send(&b->link, AW_ID_PILOT_INPUTS, &m, now);
+    (void)board_link_send(&b->link, AW_ID_PILOT_INPUTS, &m, stamp_us);
+}
+
+/* The RC frame being gathered: true when it is complete (every valid channel has a new
+ * pulse, or the first new pulse is 3/4 of a frame period old); *start_us is its first
+ * rising edge, *due_us when gathering gives up (UINT64_MAX: no frame under way). */
+static bool rc_frame_ready(const base_board_t *b, uint64_t now, uint32_t *start_us,
+                           uint64_t *due_us)
+{
+    bool fresh = false, waiting = false;
+    uint32_t age = 0, period = 0;
+    for (int c = 0; c < BASE_RC_CHANNELS; c++) {
+        const pwm_channel_t *ch = &b->rc[c];
+        pwm_channel_out_t o;
+        pwm_channel_get(ch, &b->rc_cfg, (uint32_t)now, &o);
+        if (ch->pulses == b->sent_pulses[c]) {
+            waiting = waiting || o.valid;
+            continue;
+        }
+        uint32_t a = (uint32_t)now - ch->last_accept_us; /* wrap-safe */
+        if (!fresh || a > age) {
+            age = a;
+            *start_us = ch->last_accept_us;
+        }
+        fresh = true;
+        if (o.period_us && (!period || o.period_us < period)) {
+            period = o.period_us; /* a channel that missed a pulse measures two frames */
+        }
+    }
+    *due_us = UINT64_MAX;
+    if (!fresh) {
+        return false;
+    }
+    uint32_t gather = period ? period / 4u * 3u : BASE_RC_GATHER_DEFAULT_US;
+    if (!waiting || age >= gather) {
+        return true;
+    }
+    *due_us = now + (gather - age);
+    return false;
 }
 
 uint64_t board_task(const hal_t *hal)
@@ -122,12 +167,21 @@ uint64_t board_task(const hal_t *hal)
     uint64_t due = nav_ports_poll(&b->nav);
 
     uint64_t now = hal->micros();
-    if (board_tick_due(b->t0_us, &b->pilot_k, BASE_PILOT_HZ, now)) {
-        send_pilot_inputs(b, (uint32_t)now);
+    uint32_t start_us = 0;
+    uint64_t frame_due;
+    if (rc_frame_ready(b, now, &start_us, &frame_due)) {
+        send_pilot_inputs(b, start_us, now);
+        b->last_frame_us = now;
+    }
+    /* keep-alive: no frame for a whole capture timeout (the receiver is silent) */
+    bool silent = now - b->last_frame_us >= b->rc_cfg.timeout_us;
+    if (board_tick_due(b->t0_us, &b->pilot_k, BASE_PILOT_HZ, now) && silent) {
+        send_pilot_inputs(b, (uint32_t)now, now);
     }
     board_link_task_end(&b->link);
 
     uint64_t next_pilot = board_tick_us(b->t0_us, b->pilot_k, BASE_PILOT_HZ);
     due = due < link_due ? due : link_due;
+    due = due < frame_due ? due : frame_due;
     return due < next_pilot ? due : next_pilot;
 }

@@ -9,6 +9,11 @@ static const uint8_t schema_ids[] = {
     AW_ID_HEARTBEAT, AW_ID_SCHEMA_ENTRY, AW_ID_TIME_SYNC_REQUEST, AW_ID_TIME_SYNC_REPLY,
     AW_ID_INS,       AW_ID_RTK_BASELINE, AW_ID_RTK_POS,           AW_ID_RTK_VEL,
     AW_ID_GPS_TIME,  AW_ID_RTK_STATUS,   AW_ID_ROTOR_SPEED,       AW_ID_TAIL_SERVO,
+    AW_ID_STAMP_LATENCY,
+};
+
+static const board_stamp_t stamps[] = {
+    {AW_ID_INS, AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_END, NAV_INS_STAMP_LATENCY_US},
 };
 
 void board_init(const hal_t *hal)
@@ -17,6 +22,7 @@ void board_init(const hal_t *hal)
     memset(b, 0, sizeof(*b));
     board_link_init(&b->link, hal, BOARD_ID, HAL_PORT_HOST, schema_ids,
                     (uint8_t)sizeof(schema_ids), NULL, b);
+    board_link_declare_stamps(&b->link, stamps, (uint8_t)(sizeof(stamps) / sizeof(stamps[0])));
     nav_ports_init(&b->nav, hal, &b->link, NAV_FORWARD_ALL);
     b->rotor_cfg = rotor_speed_default_cfg();
     rotor_speed_init(&b->rotor);

@@ -29,6 +29,13 @@
 
 #define VN200_SYNC 0xFAu
 #define VN200_MAX_PACKET 512u
+/* Our configuration's packet (group 1, mask 0x11E9): 82-byte payload + sync, group,
+ * mask and CRC. */
+#define VN200_PACKET_BYTES 88u
+/* Binary Output 1's latency from the IMU sample instant its values describe to the
+ * packet's first byte on the wire (the VN200 as we configure and model it:
+ * docs/sensors.md). */
+#define VN200_OUTPUT_LATENCY_US 500u
 #define VN200_GROUPS 7
 
 /* vn200_ins_t.present */

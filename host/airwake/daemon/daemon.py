@@ -44,6 +44,7 @@ from airwake.link.messages import (
     MARKER_COMMAND,
     SCHEMA_ENTRY,
     SCHEMA_HASH,
+    STAMP_LATENCY,
     TIME_SYNC_REPLY,
     TIME_SYNC_REQUEST,
     SchemaEntry,
@@ -256,6 +257,9 @@ class Daemon:
             self.marker.on_peaks(f.msg, now_s)
         elif mid == MARKER_ATTITUDE.id:
             self.marker.on_attitude(f.msg)
+        elif mid == STAMP_LATENCY.id:
+            if b.declare_stamp(f.msg) and b.identified:  # into the recording's board metadata
+                self.recorder.board(b.name, {**b.identity(), "first_seen_s": b.first_seen_s})
         elif mid == LOG_TEXT.id:
             text = bytes(f.msg.text_utf8).split(b"\0", 1)[0].decode("utf-8", "replace")
             self.event("board_log", f"{b.name}: {text}", board=b.name, level=f.msg.level,

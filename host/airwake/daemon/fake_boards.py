@@ -15,7 +15,10 @@ board's own µs clock
 
     board_us = clock_offset_us + (monotonic_us - boot_monotonic_us) * (1 + drift_ppm 1e-6)
 
-so the truth of the clock mapping is known. It answers `time_sync_request` like the
+so the truth of the clock mapping is known. Data frames are stamped at their samples'
+instants unless `BoardSim(stamp_latency_us={"ins": 1455})` makes a message's stamps that
+much later (sent when the stamp comes due) and declares it in `stamp_latency` entries
+after each heartbeat, as the firmware does. It answers `time_sync_request` like the
 firmware (board_rx = its clock when it read the request, board_tx = when it replies) and
 keeps every `marker_command` it receives.
 
@@ -66,13 +69,15 @@ from airwake.link.messages import (
     RtkStatus,
     RtkVel,
     SchemaEntry,
+    StampLatency,
     TailServo,
     TimeSyncReply,
 )
 from airwake.tracking.losa import DEFAULT_GEOMETRY, WIRE_PIXELS
 
 # Messages each board sends periodically, at MessageInfo.rate_hz[board].
-ON_DEMAND = {"heartbeat", "schema_entry", "time_sync_reply", "log_text", "losa_raw_line"}
+ON_DEMAND = {"heartbeat", "schema_entry", "time_sync_reply", "log_text", "losa_raw_line",
+             "stamp_latency"}
 ORIGIN_LAT_LON = (38.9784, -76.48)
 M_PER_DEG_LAT = 111_000.0
 
@@ -106,8 +111,10 @@ class BoardSim:
     """One origin board: clock, sequence numbers, message schedule, message contents."""
 
     def __init__(self, name: str, *, drift_ppm: float = 0.0, clock_offset_us: int = 0,
-                 boot_count: int = 0, rates: dict[str, float] | None = None) -> None:
+                 boot_count: int = 0, rates: dict[str, float] | None = None,
+                 stamp_latency_us: dict[str, int] | None = None) -> None:
         self.name = name
+        self.stamp_latency_us = dict(stamp_latency_us or {})
         self.origin = BOARD_IDS[name]
         self.drift_ppm = drift_ppm
         self.clock_offset_us = clock_offset_us
@@ -116,7 +123,8 @@ class BoardSim:
         self.ids = sorted({BY_NAME["heartbeat"].id, BY_NAME["schema_entry"].id,
                            BY_NAME["time_sync_request"].id, BY_NAME["time_sync_reply"].id,
                            *[BY_NAME[n].id for n in self.rates]}
-                          | ({BY_NAME["marker_command"].id} if name == "marker" else set()))
+                          | ({BY_NAME["marker_command"].id} if name == "marker" else set())
+                          | ({BY_NAME["stamp_latency"].id} if self.stamp_latency_us else set()))
         self.boot(time.monotonic_ns() // 1000)
 
     def boot(self, mono_us: int) -> None:
@@ -160,6 +168,9 @@ class BoardSim:
         if t >= self.next_heartbeat:
             self.next_heartbeat += 1.0
             out.append((self.heartbeat(b), b, False))
+            for i, (name, lat) in enumerate(sorted(self.stamp_latency_us.items())):
+                out.append((StampLatency(BY_NAME[name].id, int(lat), 1, i,
+                                         len(self.stamp_latency_us)), b, True))
         if self.announce_all:
             self.announce_all = False
             for i, mid in enumerate(self.ids):
@@ -173,12 +184,13 @@ class BoardSim:
             mid = self.ids[i]
             out.append((SchemaEntry(mid, BY_ID[mid].def_hash, i, len(self.ids)), b, False))
         for name, rate in self.rates.items():
-            while t >= self.next_due[name]:
+            lat_s = self.stamp_latency_us.get(name, 0) * 1e-6
+            while t >= self.next_due[name] + lat_s:
                 k = round(self.next_due[name] * rate)
                 self.next_due[name] += 1.0 / rate
                 ts = k / rate  # the sample's own time since boot
                 out.append((self.content(name, ts), self.board_us(self.boot_mono_us
-                                                                  + ts * 1e6), True))
+                                                                  + (ts + lat_s) * 1e6), True))
         return out
 
     def heartbeat(self, board_us: int) -> Heartbeat:

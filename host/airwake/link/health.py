@@ -54,6 +54,16 @@ class BoardLink:
         self._last_seq = [-1] * 256
         self.rates = RateMeter()
         self.schema_problems: list[str] = []
+        # what the board declares of its stamps (stamp_latency): message -> latency, us
+        self.stamp_latency_us: dict[str, int] = {}
+
+    def declare_stamp(self, entry) -> bool:
+        """Take one stamp_latency entry; True when it changes what the board declared."""
+        info = BY_ID.get(entry.msg_id)
+        name = info.name if info is not None else f"msg{entry.msg_id}"
+        changed = self.stamp_latency_us.get(name) != entry.latency_us
+        self.stamp_latency_us[name] = int(entry.latency_us)
+        return changed
 
     def count(self, msg_id: int, seq: int) -> None:
         """Count one frame and its sequence gap (per message, this origin)."""
@@ -84,6 +94,8 @@ class BoardLink:
             "fw_version": f"{hb.fw_version_major}.{hb.fw_version_minor}.{hb.fw_version_patch}",
             "schema_hash": f"0x{hb.schema_hash:08X}", "schema_ok": hb.schema_hash == SCHEMA_HASH,
             "boot_count": hb.boot_count, "reset_cause": hb.reset_cause,
+            **({"stamp_latency_us": dict(sorted(self.stamp_latency_us.items()))}
+               if self.stamp_latency_us else {}),
         }
 
 

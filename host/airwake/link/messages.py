@@ -15,7 +15,7 @@ from collections.abc import Callable
 from struct import Struct
 from typing import Any, NamedTuple
 
-SCHEMA_HASH = 0xBDBBD7F2
+SCHEMA_HASH = 0xE6AFF602
 HEADER_SIZE = 7
 CRC_SIZE = 2
 FRAME_OVERHEAD = 9
@@ -406,6 +406,73 @@ LOG_TEXT = MessageInfo(
 )
 
 
+class StampLatency(NamedTuple):
+    """stamp_latency (0x06).
+
+    What one message's board_time_us marks and how long after the instant its data
+    describe (the sample instant) that is, as far as the sender's firmware knows it:
+    fixed parts only (a peer's documented output latency, a packet's time on a UART at
+    the configured baud), from the firmware's own constants. The host subtracts it from
+    the mapped times when it exports a flight table. A board sends one entry per message
+    it describes after each heartbeat, so a receiver that joins late learns them within
+    a second.
+
+    board_time_us: transmit time.
+    """
+
+    MSG_ID = 0x06
+
+    msg_id: int = 0
+    latency_us: int = 0
+    stamp_event: int = 0
+    entry_index: int = 0
+    entry_count: int = 0
+
+
+_S_STAMP_LATENCY = Struct('<BIBBB')
+_F_STAMP_LATENCY = Struct('<BBBIBIBBBH')
+
+
+def _pack_stamp_latency(m: StampLatency) -> bytes:
+    return _S_STAMP_LATENCY.pack(m.msg_id, m.latency_us, m.stamp_event, m.entry_index, m.entry_count)
+
+
+def _unpack_stamp_latency(b: bytes) -> StampLatency:
+    return StampLatency._make(_S_STAMP_LATENCY.unpack(b))
+
+
+def _from_frame_stamp_latency(v: tuple) -> StampLatency:
+    return _new(StampLatency, v[4:-1])
+
+
+STAMP_LATENCY = MessageInfo(
+    id=0x06,
+    name='stamp_latency',
+    record=StampLatency,
+    payload_size=8,
+    def_hash=0x9E56D74D,
+    crc_seed=0x491B,
+    payload_struct=_S_STAMP_LATENCY,
+    frame_struct=_F_STAMP_LATENCY,
+    fields=(
+        FieldInfo('msg_id', 'u8', 1, '1', 'the message id this entry describes'),
+        FieldInfo('latency_us', 'u32', 1, 'us', 'board_time_us of that message minus the sample instant of its data'),
+        FieldInfo('stamp_event', 'u8', 1, 'enum', 'what board_time_us of that message marks', values={0: 'transmit', 1: 'peer_packet_end', 2: 'rc_frame_start'}),
+        FieldInfo('entry_index', 'u8', 1, '1', "index of this entry in the sender's list (0 .. entry_count-1)"),
+        FieldInfo('entry_count', 'u8', 1, '1', 'number of entries the sender declares'),
+    ),
+    rate_hz={'rover': 1, 'base': 2},
+    to=(),
+    frozen=False,
+    description="What one message's board_time_us marks and how long after the instant its data describe (the sample instant) that is, as far as the sender's firmware knows it: fixed parts only (a peer's documented output latency, a packet's time on a UART at the configured baud), from the firmware's own constants. The host subtracts it from the mapped times when it exports a flight table. A board sends one entry per message it describes after each heartbeat, so a receiver that joins late learns them within a second.",
+    time='transmit time',
+    pack=_pack_stamp_latency,
+    unpack=_unpack_stamp_latency,
+    from_frame=_from_frame_stamp_latency,
+    dtype_descr=(('msg_id', 'u1'), ('latency_us', '<u4'), ('stamp_event', 'u1'), ('entry_index', 'u1'), ('entry_count', 'u1'),),
+)
+
+
 class Imu(NamedTuple):
     """imu (0x10).
 
@@ -790,7 +857,8 @@ class Ins(NamedTuple):
     TimeStartup, YawPitchRoll, AngularRate, Position, Velocity, Accel, InsStatus),
     forwarded with the sensor's own units.
 
-    board_time_us: board time when the VN200 packet's first byte arrived.
+    board_time_us: board time when the VN200 packet was parsed (its last byte in);
+    stamp_latency says how long after the sample instant.
     """
 
     MSG_ID = 0x40
@@ -847,7 +915,7 @@ INS = MessageInfo(
     to=(),
     frozen=False,
     description="VN200-class INS solution as the rover and base read it (VectorNav binary group 1: TimeStartup, YawPitchRoll, AngularRate, Position, Velocity, Accel, InsStatus), forwarded with the sensor's own units.",
-    time="board time when the VN200 packet's first byte arrived",
+    time='board time when the VN200 packet was parsed (its last byte in); stamp_latency says how long after the sample instant',
     pack=_pack_ins,
     unpack=_unpack_ins,
     from_frame=_from_frame_ins,
@@ -1297,7 +1365,8 @@ class PilotInputs(NamedTuple):
     (1 aileron/lateral cyclic, 2 elevator/longitudinal cyclic, 3 collective, 4
     rudder/tail pitch, 5 aux/gyro gain).
 
-    board_time_us: falling edge of the last channel's pulse in this RC frame.
+    board_time_us: rising edge of the first pulse of this RC frame (the frame's start);
+    sent when the frame is complete.
     """
 
     MSG_ID = 0x50
@@ -1342,7 +1411,7 @@ PILOT_INPUTS = MessageInfo(
     to=(),
     frozen=False,
     description="The pilot's five RC channels measured on the base from the RC receiver's PWM outputs (1 aileron/lateral cyclic, 2 elevator/longitudinal cyclic, 3 collective, 4 rudder/tail pitch, 5 aux/gyro gain).",
-    time="falling edge of the last channel's pulse in this RC frame",
+    time="rising edge of the first pulse of this RC frame (the frame's start); sent when the frame is complete",
     pack=_pack_pilot_inputs,
     unpack=_unpack_pilot_inputs,
     from_frame=_from_frame_pilot_inputs,
@@ -1409,7 +1478,7 @@ ANEMOMETER = MessageInfo(
 )
 
 
-MESSAGES: tuple[MessageInfo, ...] = (HEARTBEAT, SCHEMA_ENTRY, TIME_SYNC_REQUEST, TIME_SYNC_REPLY, LOG_TEXT, IMU, LOSA_PEAKS, LOSA_RAW_LINE, LOSA_RAW_REQUEST, MARKER_ATTITUDE, MARKER_COMMAND, INS, RTK_BASELINE, RTK_POS, RTK_VEL, GPS_TIME, RTK_STATUS, ROTOR_SPEED, TAIL_SERVO, PILOT_INPUTS, ANEMOMETER)
+MESSAGES: tuple[MessageInfo, ...] = (HEARTBEAT, SCHEMA_ENTRY, TIME_SYNC_REQUEST, TIME_SYNC_REPLY, LOG_TEXT, STAMP_LATENCY, IMU, LOSA_PEAKS, LOSA_RAW_LINE, LOSA_RAW_REQUEST, MARKER_ATTITUDE, MARKER_COMMAND, INS, RTK_BASELINE, RTK_POS, RTK_VEL, GPS_TIME, RTK_STATUS, ROTOR_SPEED, TAIL_SERVO, PILOT_INPUTS, ANEMOMETER)
 BY_ID: dict[int, MessageInfo] = {m.id: m for m in MESSAGES}
 BY_NAME: dict[str, MessageInfo] = {m.name: m for m in MESSAGES}
 BY_RECORD: dict[type, MessageInfo] = {m.record: m for m in MESSAGES}

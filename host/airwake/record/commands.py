@@ -44,20 +44,24 @@ def _export(args: argparse.Namespace) -> int:
                                               "--rover-antenna-to-hub-m"),
         "tracker_height_above_ground_m": args.tracker_height_m,
     }
-    built = export_recording(rec, overrides)
+    built = export_recording(rec, overrides,
+                             remove_stamp_latency=not args.no_latency_correction)
     write_flight_table(built.df, out, built.metadata)
     m = built.metadata
     summary = {"out": str(out), "rows": len(built.df), "columns": list(built.df.columns),
                "rate_hz": m.get("rate_hz"), "span_s": [m["trimmed"]["start_s"],
                                                        m["trimmed"]["end_s"]],
                "missing_streams": m["missing_streams"], "gaps": m["gaps"],
-               "recording_complete": m["recording_complete"], "clock": m["clock"]}
+               "recording_complete": m["recording_complete"], "clock": m["clock"],
+               "stamp_latency": m["stamp_latency"]}
     if args.json:
         print(json.dumps(summary, indent=2, default=str))
     else:
         print(f"{out}: {len(built.df)} rows at {m['rate_hz']:.1f} Hz, "
               f"{m['trimmed']['end_s'] - m['trimmed']['start_s']:.1f} s, "
               f"{len(built.df.columns)} columns")
+        if m["stamp_latency"]["note"]:
+            print(f"note: {m['stamp_latency']['note']}")
         if not m["recording_complete"]:
             print("note: the recording was not closed cleanly; exported what was readable")
         if m["missing_streams"]:
@@ -98,8 +102,9 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "export", help="turn a daemon recording into a flight table (Parquet or CSV)",
         description="Decode the recording's raw bytes, refit every board clock over the "
-        "whole recording and build the flight table (docs/flight-table.md, "
-        "docs/recordings.md). Geometry options override the recording's metadata.")
+        "whole recording, remove the stamp latencies the boards declare and build the flight "
+        "table (docs/flight-table.md, docs/recordings.md). Geometry options override the "
+        "recording's metadata.")
     p.add_argument("recording", metavar="REC", help="recording directory (or one segment)")
     p.add_argument("--out", required=True, metavar="FLIGHT.parquet|.csv")
     p.add_argument("--ned-origin", metavar="LAT,LON,H")
@@ -108,6 +113,9 @@ def register(subparsers) -> None:
                    help="base antenna on the ship (x forward of the hangar step, y starboard)")
     p.add_argument("--rover-antenna-to-hub-m", metavar="X,Y,Z")
     p.add_argument("--tracker-height-m", type=float)
+    p.add_argument("--no-latency-correction", action="store_true",
+                   help="keep the boards' stamps: do not subtract the stamp latencies they "
+                   "declare (stamp_latency frames) from the streams' times")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.set_defaults(func=_export)
 

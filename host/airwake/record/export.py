@@ -9,6 +9,11 @@ time-sync replies) and every frame's board time is mapped through it. The live m
 the daemon wrote into the JSON channels is not used: the offline fit sees both sides
 of every moment.
 
+Then each stream's declared stamp latency (`stamp_latency` frames the boards send:
+`record.latency`) is subtracted from its host times, so a row's time is the instant its
+data describe rather than the event the board stamped (the rover's INS rows were 1.455 ms
+late: its packets are stamped at their last byte).
+
 `t_s` = host CLOCK_MONOTONIC time minus the recording's `start_monotonic_ns`, s.
 """
 
@@ -38,6 +43,7 @@ from airwake.record.flight_builder import (
     MessageTable,
     build_flight_table,
 )
+from airwake.record.latency import declared_latencies, latency_metadata, remove_latencies
 from airwake.record.reader import Recording
 from airwake.record.rigging import PwmRigging
 
@@ -202,12 +208,17 @@ def build_config(rec: Recording, overrides: dict | None = None) -> FlightBuildCo
     return FlightBuildConfig(**values)
 
 
-def export_recording(rec: Recording, overrides: dict | None = None) -> BuiltFlight:
-    """The flight table of a recording, with metadata naming its sources and clock fits."""
+def export_recording(rec: Recording, overrides: dict | None = None, *,
+                     remove_stamp_latency: bool = True) -> BuiltFlight:
+    """The flight table of a recording, with metadata naming its sources, clock fits and
+    the stamp latencies removed (`remove_stamp_latency=False` keeps the boards' stamps)."""
     streams, report = recording_streams(rec)
     if "rover/ins" not in streams:
         raise ExportError(f"recording {rec.path}: no rover INS frames (streams: "
                           f"{sorted(streams) or 'none'}); a flight table needs the rover")
+    declared = declared_latencies(streams)
+    if remove_stamp_latency:
+        streams = remove_latencies(streams, declared)
     built = build_flight_table(streams, build_config(rec, overrides))
     built.metadata.update({
         "source": "recorder",
@@ -218,5 +229,6 @@ def export_recording(rec: Recording, overrides: dict | None = None) -> BuiltFlig
         "boards": rec.boards,
         "clock": report["boards"],
         "link_counters": report["ports"],
+        "stamp_latency": latency_metadata(declared, remove_stamp_latency),
     })
     return built
