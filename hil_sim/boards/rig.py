@@ -53,7 +53,14 @@ class SilRig:
     """Everything about the SIL set-up that is not the truth world (module doc)."""
 
     boards: tuple[str, ...] = SIL_BOARDS
-    step_us: int = 10_000
+    # The lockstep's delivery grid (the host reads what the boards sent at each step's
+    # end). Not a divisor of the boards' schedules (20 ms RC and pilot frames, 6.67 ms INS,
+    # 250 ms schema entries, 1 s heartbeats): on a 10 ms grid a board whose frames all
+    # leave just after a step boundary (the base: its ticks count from its boot at t = 0)
+    # reached the host a whole step late every time, and the clock fit, which takes the
+    # least delay as the path's own, mapped it ~5 ms late. On 9.7 ms the phases walk, as a
+    # real host's reads drift against the boards' crystals.
+    step_us: int = 9_700
     host_baud: dict = field(default_factory=_default_baud)
     rover_link_baud: int = 460800  # the base's XBee port to the rover
     xbee_latency_us: int = 5_000

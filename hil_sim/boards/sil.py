@@ -16,7 +16,7 @@ What happens (docs/sil.md):
 3. The real daemon (`airwake daemon`, a separate process) records REC from those ptys.
    In stepped mode it runs on the simulator's clock (`simclock`): its receive times,
    and so the exported flight table, are on the flight's own timeline.
-4. Every step (`rig.step_us`, 10 ms) each board runs to the step's end with its inputs
+4. Every step (`rig.step_us`, 9.7 ms) each board runs to the step's end with its inputs
    (marker first: the LOSA lines of the step need the LED the marker lit; the rover and
    the base in sub-steps of the XBee latency), the bytes the boards sent cross their
    link's `links.Impairment` (faults, counted exactly) to the ptys, and the bytes the
@@ -353,10 +353,12 @@ class SilRun:
         has read them and finished its pass (it sleeps again) — so the clock it stamped
         them with is exactly the end of step k, and whatever it wrote in reply (time
         sync, marker commands, stamped with that same clock) reaches the boards at that
-        instant. Frames reach the host 0-10 ms after they were sent, host bytes reach the
+        instant. Frames reach the host 0-9.7 ms after they were sent, host bytes reach the
         boards with no delay, whatever the machine's load; and a run is reproducible."""
         t0 = self.t_us
-        t1 = min(t0 + self.rig.step_us, self.end_us)
+        # a step ends early at a timed outage's start or end, so that it acts at its time
+        edges = [t for o in self._outages for t in (o.start_us, o.end_us) if t > t0]
+        t1 = min(t0 + self.rig.step_us, self.end_us, *edges)
         if self.clock is not None:
             self._wait_host_idle()
         self._collect_host_bytes(t0)
