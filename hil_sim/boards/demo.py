@@ -16,9 +16,10 @@
    the simulator's truth (a simulated flight has it).
 4. `airwake wind map`: the airwake map in the ship frame, scored against the simulator's
    wind field.
-5. `airwake model compare` and `airwake model diagnose` in still air and with the estimated
-   wind as the model's input: the residual the still-air comparison shows is the airwake,
-   and the diagnosis says so (unmodelled wind ranks first) instead of naming an effect.
+5. `airwake model compare` in still air and with the estimated wind as the model's input,
+   and `airwake model diagnose` in still air: the residual the still-air comparison shows
+   is the airwake, and the diagnosis says so (unmodelled wind ranks first) instead of
+   naming an effect.
 6. report/index.html: the map first, then the estimate's accuracy, then the model section.
 
 Each step is the command a user would type (run here as `python -m airwake.cli ...`).
@@ -98,13 +99,10 @@ def main(argv: list[str] | None = None) -> int:
                          "0", "--wind", str(wind), "--json", "--quiet", capture=True)
     diag = _airwake("model", "diagnose", str(scored), "--model", str(base), "--no-sindy",
                     "--json", "--quiet", capture=True)
-    diag_wind = _airwake("model", "diagnose", str(scored), "--model", str(base), "--no-sindy",
-                         "--wind", str(wind), "--json", "--quiet", capture=True)
     for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
-                       ("diagnose_still_air", diag), ("diagnose_with_wind", diag_wind)):
+                       ("diagnose_still_air", diag)):
         (out / f"{name}.json").write_text(json.dumps(data, indent=1))
-    write_report(report, mapdir, calib, est, amap, still_air, with_wind, args,
-                 (diag, diag_wind))
+    write_report(report, mapdir, calib, est, amap, still_air, with_wind, args, diag)
     print(f"\ndemo done in {time.monotonic() - t0:.0f} s:\n  baseline     {base}\n"
           f"  recording    {rec}\n  flight table {flight}\n  wind         {wind}\n"
           f"  airwake map  {mapdir / 'map.parquet'} ({', '.join(amap['figures'])})\n"
@@ -124,7 +122,7 @@ def _candidates(diag: dict, k: int = 3) -> str:
 
 
 def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
-                 still_air: dict, with_wind: dict, args, diagnoses: tuple) -> Path:
+                 still_air: dict, with_wind: dict, args, diag: dict) -> Path:
     """report/index.html: the map, the estimate's accuracy, the model section."""
     report.mkdir(parents=True, exist_ok=True)
     for f in amap["figures"]:
@@ -159,13 +157,9 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
     else:
         verdict += ("The estimated wind does not account for the residual: the model misses "
                     "something on this flight beyond the airwake (docs/model-discrepancy.md).")
-    diag, diag_wind = diagnoses
-    diagnosis = (f"<p><b>airwake model diagnose</b>, still air assumed: "
+    diagnosis = (f"<p><b>airwake model diagnose</b> (still air assumed): "
                  f"{html.escape(diag['verdict']['text'])} (ranked: "
-                 f"{html.escape(_candidates(diag))}).</p>"
-                 f"<p><b>airwake model diagnose --wind wind.parquet</b> (the estimate as the "
-                 f"model's input): {html.escape(diag_wind['verdict']['text'])} (ranked: "
-                 f"{html.escape(_candidates(diag_wind))}).</p>")
+                 f"{html.escape(_candidates(diag))}).</p>")
     trust = calib.get("wind_trust") or {}
     trust_rows = [(k, "yes" if v["trusted"] else "NO", v["why"]) for k, v in trust.items()]
     page = f"""<!doctype html><html><head><meta charset="utf-8"><title>airwake demo</title>

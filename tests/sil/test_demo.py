@@ -31,6 +31,11 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert worst_wind <= 8.0 and worst_still > 2 * worst_wind, (worst_still, worst_wind)
     assert "The residual of this flight is the airwake" in html
     assert "best explained by" not in html
+    # the diagnosis, with no wind given, names the wind, not a model effect
+    diag = json.loads((out / "diagnose_still_air.json").read_text())
+    assert diag["verdict"]["kind"] == "wind", diag["verdict"]
+    assert diag["candidates"][0]["effect"] == "unmodelled_wind"
+    assert "The residual is unmodelled wind" in html
     for f in ("mean_flow.png", "turbulence.png", "coverage.png"):
         assert (out / "report" / f).stat().st_size > 0 and f in html
     # a real browser opens the report and the map's page with every figure loaded
