@@ -121,26 +121,10 @@ def _progress(args, label, total):
 
 
 def _dump(obj) -> None:
-    json.dump(_jsonable(obj), sys.stdout, indent=1, allow_nan=True)
+    from airwake.discrepancy.report import jsonable
+
+    json.dump(jsonable(obj), sys.stdout, indent=1, allow_nan=True)
     sys.stdout.write("\n")
-
-
-def _jsonable(o):
-    import numpy as np
-
-    if isinstance(o, dict):
-        return {str(k): _jsonable(v) for k, v in o.items()}
-    if isinstance(o, list | tuple):
-        return [_jsonable(v) for v in o]
-    if isinstance(o, np.ndarray):
-        return _jsonable(o.tolist())
-    if isinstance(o, np.floating | float):
-        return float(o)
-    if isinstance(o, np.integer):
-        return int(o)
-    if isinstance(o, np.bool_):
-        return bool(o)
-    return o
 
 
 def _table(metrics: dict, extra: dict | None = None) -> str:

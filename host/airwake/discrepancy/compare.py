@@ -75,6 +75,12 @@ class Analysis:
     def band(self, x: np.ndarray) -> np.ndarray:
         return signal.band(x, self.flight.runs, self.settings, self.flight.rate_hz)
 
+    def regressors(self, sens: np.ndarray) -> np.ndarray:
+        """(K, T, 6) sensitivities -> (n, 6, K) in the analysis band over the mask."""
+        k = sens.shape[0]
+        flat = np.moveaxis(sens, 0, -1).reshape(sens.shape[1], -1)  # (T, 6K)
+        return self.band(flat).reshape(sens.shape[1], 6, k)[self.mask]
+
     @property
     def weights(self) -> np.ndarray:
         """(6,) channel weights 1/noise_band^2 (whitening: every channel in units of its

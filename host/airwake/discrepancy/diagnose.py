@@ -196,14 +196,6 @@ class Diagnosis:
         raise KeyError(name)
 
 
-def _regressors(an: Analysis, sens: np.ndarray) -> np.ndarray:
-    """(K, T, 6) sensitivities -> (n, 6, K) in the analysis band over the mask."""
-    k = sens.shape[0]
-    flat = np.moveaxis(sens, 0, -1).reshape(sens.shape[1], -1)  # (T, 6K)
-    banded = an.band(flat).reshape(sens.shape[1], 6, k)
-    return banded[an.mask]
-
-
 def effective_rows(an: Analysis) -> float:
     """Effective number of independent residual values: sum over channels of Geyer's N_eff
     of the in-band residual."""
@@ -230,7 +222,7 @@ def screen(an: Analysis, cand: Candidate, blocks, n_eff: float, y: np.ndarray
         z = predict_sets(m, an, np.array(vecs), cand.reuse_hidden)
         steps = np.array(list(cand.screen.values()))
         sens = (z - an.zhat[None]) / steps[:, None, None]
-        x = _regressors(an, sens)
+        x = an.regressors(sens)
         fit = linear_fit(y, x, an.weights, blocks, n_eff)
         if best is None or fit.cv_explained > best[0].cv_explained:
             best = (fit, shape, x)
@@ -261,6 +253,20 @@ def refine(an: Analysis, cand: Candidate, res: CandidateResult, max_nfev: int = 
     res.params = {**start, **{k.split(".", 1)[1]: v for k, v in fr.values.items()}}
     res.contribution = fr.zhat - an.zhat
     _score_contribution(an, res)
+
+
+def _screen_wind(an: Analysis, blocks, n_eff: float, y: np.ndarray) -> CandidateResult:
+    """Unmodelled wind screened like a candidate (`wind.screen`)."""
+    from airwake.discrepancy import wind as wind_mod
+
+    res = CandidateResult(WIND_CANDIDATE, wind_mod.WIND_TITLE, manoeuvre=wind_mod.MANOEUVRE)
+    res.linear, res.sens, res.linear_params = wind_mod.screen(an, blocks, n_eff, y)
+    res.shape = {"field": f"earth-axis wind + drift (Legendre P1..P{wind_mod.ORDER} of "
+                          "time) + linear in position (eq 3.15), rotation = curl / 2"}
+    res.params = dict(res.linear_params)
+    res.explained, res.explained_channels = res.linear.explained, res.linear.explained_channels
+    res.wind = wind_mod.describe(res.params, an.flight)
+    return res
 
 
 def _score_contribution(an: Analysis, res: CandidateResult) -> None:
@@ -313,14 +319,16 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
         if progress is not None:
             progress.update(i + 1, cand.name)
     if with_wind:
-        results.append(wind_mod.screen(an, blocks, n_eff, y))
+        results.append(_screen_wind(an, blocks, n_eff, y))
     results.sort(key=lambda r: -r.cv_explained)
     by_name = {c.name: c for c in cands}
     for res in results[:refine_top]:
         if res.cv_explained <= 0:
             continue
         if res.name == WIND_CANDIDATE:
-            wind_mod.refine(an, res)
+            res.params, res.contribution = wind_mod.refine(an, res.linear_params)
+            res.wind = wind_mod.describe(res.params, an.flight)
+            res.refined = True
             _score_contribution(an, res)
         else:
             refine(an, by_name[res.name], res)
@@ -364,7 +372,7 @@ def screen_recalibration(an: Analysis, blocks, n_eff: float, y: np.ndarray,
     vecs = np.repeat(v0[None], idx.size, 0)
     vecs[np.arange(idx.size), idx] += steps
     sens = (predict_sets(model, an, vecs) - an.zhat[None]) / steps[:, None, None]
-    fit = linear_fit(y, _regressors(an, sens), an.weights, blocks, n_eff)
+    fit = linear_fit(y, an.regressors(sens), an.weights, blocks, n_eff)
     ratio = np.array([m["rms_over_noise"] for m in an.metrics().values()])
     broad = int(np.sum(ratio > BROAD_NOISE_RATIO))
     best = max((r.cv_explained for r in results), default=0.0)

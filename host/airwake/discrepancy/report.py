@@ -36,6 +36,25 @@ code{background:#f2f4f6;padding:0 .25em}
 """
 
 
+def jsonable(o):
+    """numpy scalars and arrays inside dicts and lists -> plain JSON values."""
+    import numpy as np
+
+    if isinstance(o, dict):
+        return {str(k): jsonable(v) for k, v in o.items()}
+    if isinstance(o, list | tuple):
+        return [jsonable(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return jsonable(o.tolist())
+    if isinstance(o, np.floating | float):
+        return float(o)
+    if isinstance(o, np.integer):
+        return int(o)
+    if isinstance(o, np.bool_):
+        return bool(o)
+    return o
+
+
 def _esc(x) -> str:
     return html.escape(str(x))
 
@@ -322,9 +341,7 @@ def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=Tru
                   c: m["rms"] for c, m in after_an.metrics().items()},
               "remaining": remaining,
               "added": None if added is None else added.to_json()}
-    from airwake.discrepancy.commands import _jsonable
-
-    (out / "summary.json").write_text(json.dumps(_jsonable(result), indent=1))
+    (out / "summary.json").write_text(json.dumps(jsonable(result), indent=1))
     return result
 
 

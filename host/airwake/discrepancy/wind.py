@@ -138,24 +138,14 @@ def describe(params: dict, flight, order: int = ORDER) -> dict:
 
 # -- the candidate --------------------------------------------------------------------------
 def screen(an, blocks, n_eff: float, y: np.ndarray):
-    """Linear screening of unmodelled wind (module docstring) -> CandidateResult."""
-    from airwake.discrepancy.diagnose import CandidateResult, _regressors
+    """Linear screening of unmodelled wind (module docstring): (LinearFit, the weighted
+    in-band regressors (n, 6, K), {basis name: coefficient})."""
     from airwake.discrepancy.regress import linear_fit
 
-    res = CandidateResult(WIND_CANDIDATE, WIND_TITLE, manoeuvre=MANOEUVRE)
     b, names, steps = basis(an.flight)
-    w0 = _known(an)
-    sens = _sensitivities(an, w0, an.zhat, b, steps)
-    x = _regressors(an, sens)
+    x = an.regressors(_sensitivities(an, _known(an), an.zhat, b, steps))
     fit = linear_fit(y, x, an.weights, blocks, n_eff)
-    res.linear, res.sens = fit, x
-    res.shape = {"field": f"earth-axis wind + drift (Legendre P1..P{ORDER} of time) + "
-                          "linear in position (eq 3.15), rotation = curl / 2"}
-    res.linear_params = {n: float(a) for n, a in zip(names, fit.coef, strict=True)}
-    res.params = dict(res.linear_params)
-    res.explained, res.explained_channels = fit.explained, fit.explained_channels
-    res.wind = describe(res.params, an.flight)
-    return res
+    return fit, x, {n: float(a) for n, a in zip(names, fit.coef, strict=True)}
 
 
 def _known(an) -> np.ndarray:
@@ -171,15 +161,16 @@ def _sensitivities(an, w, z, b, steps) -> np.ndarray:
                      for bk, st in zip(b, steps, strict=True)])
 
 
-def refine(an, res, iterations: int = 2) -> None:
-    """Gauss-Newton from the linear estimate: the model's response to a wind of several
-    m/s is not linear, so the sensitivities are taken again at the fitted wind."""
+def refine(an, linear_params: dict, iterations: int = 2) -> tuple[dict, np.ndarray]:
+    """Gauss-Newton from the linear estimate (the model's response to a wind of several
+    m/s is not linear, so the sensitivities are taken again at the fitted wind): the
+    fitted coefficients and the predicted change of the channels (T, 6)."""
     from airwake.discrepancy.compare import predict
     from airwake.discrepancy.fit import weighted_residual
 
     b, names, steps = basis(an.flight)
     w0 = _known(an)
-    coef = np.array([res.linear_params[n] for n in names])
+    coef = np.array([linear_params[n] for n in names])
     sw = np.sqrt(an.weights)
 
     def cost(c):
@@ -190,7 +181,7 @@ def refine(an, res, iterations: int = 2) -> None:
     best, z = cost(coef)
     for _ in range(iterations):
         sens = _sensitivities(an, w0 + np.einsum("k,ktc->tc", coef, b), z, b, steps)
-        x = _regressors(an, sens) * sw[None, :, None]
+        x = an.regressors(sens) * sw[None, :, None]
         r = an.band(an.flight.z - z)[an.mask] * sw[None]
         step, *_ = np.linalg.lstsq(x.reshape(-1, x.shape[2]), r.reshape(-1), rcond=1e-8)
         trial = coef + step
@@ -198,16 +189,7 @@ def refine(an, res, iterations: int = 2) -> None:
         if not c < best:
             break
         coef, best, z = trial, c, zt
-    res.refined = True
-    res.params = {n: float(v) for n, v in zip(names, coef, strict=True)}
-    res.wind = describe(res.params, an.flight)
-    res.contribution = z - an.zhat
-
-
-def _regressors(an, sens):
-    from airwake.discrepancy.diagnose import _regressors as regress
-
-    return regress(an, sens)
+    return {n: float(v) for n, v in zip(names, coef, strict=True)}, z - an.zhat
 
 
 # -- a known wind ----------------------------------------------------------------------------
