@@ -34,6 +34,16 @@ class TailThrustAirspeedError(Effect):
         Parameter("height_m", 0.012, "m", (-0.5, 0.5), "truth tail height h_T", fixed=True),
     )
 
+    def rest_state(self, u, ctx):
+        """No states: the truth's trim has nothing to start for this effect."""
+        import numpy as np
+
+        return np.zeros(0)
+
+    def linear_values(self) -> dict:
+        """Smooth already: nothing to switch off for the trim."""
+        return {}
+
     @kernel
     def forces(q, p, s, ds, load, scratch):
         ux = q[Q.wind_v_m_s] - q[Q.vel_b_m_s]
