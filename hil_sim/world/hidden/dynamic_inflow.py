@@ -25,8 +25,9 @@ F(lambda_qs) = V L^-1 lambda_qs. Hence, linearised about lambda_qs,
 
 so the steady state is exactly lambda_qs, and the time constants include the loads'
 inflow feedback (hover mean inflow: tau_0 = (8 / 3 pi) / (Omega (2 lambda_0 - J_00)),
-~30 ms for this rotor). `apparent_mass_scale` multiplies M. States: lambda_0, lambda_c,
-lambda_s (rotor frame, as the main rotor's inflow quantities).
+38 ms for this rotor; 13 ms for the harmonics). `apparent_mass_scale` multiplies M.
+States: lambda_0, lambda_c, lambda_s (rotor frame, as the main rotor's inflow
+quantities).
 """
 
 from __future__ import annotations
