@@ -75,14 +75,10 @@ class SecondOrderServo(Effect):
 
     @kernel
     def inputs(q, p, s, ds, load, scratch):
-        scratch[0] = q[Q.delta_col_rad]
-        scratch[1] = q[Q.delta_lat_rad]
-        scratch[2] = q[Q.delta_lon_rad]
-        scratch[3] = q[Q.delta_ped_rad]
-        q[Q.delta_col_rad] = s[0]
-        q[Q.delta_lat_rad] = s[1]
-        q[Q.delta_lon_rad] = s[2]
-        q[Q.delta_ped_rad] = s[3]
+        # the four commands sit in consecutive context slots, col, lat, lon, ped
+        for j in range(4):
+            scratch[j] = q[Q.delta_col_rad + j]
+            q[Q.delta_col_rad + j] = s[j]
 
     @kernel
     def state_rates(q, p, s, ds, load, scratch):
