@@ -10,6 +10,8 @@ The noise floor a test compares against is computed from the flight's truth colu
     floor_c = sqrt(sensor_c^2 + state_c^2)
     sensor_c = RMS band(z_meas - truth_z)                 (output noise: IMU, differentiator)
     state_c  = RMS band(z_hat(measured states, inputs) - z_hat(truth states, inputs))
+               (truth states: the CG's, the velocity at the IMU point as the INS reports it,
+               and the true hub height)
 
 the second term being the measured states' noise (the INS velocity error is a 5 cm/s
 Gauss-Markov process with a 5 s time constant) propagated through the model, which an
@@ -91,6 +93,16 @@ def noise_floor(an) -> np.ndarray:
     tdf = an.flight.df.copy()
     for c in STATE_COLUMNS:
         tdf[c] = df[f"truth_{c}"].to_numpy()
+    # the INS reports the IMU point's velocity, v + w x r: with a lever arm that offset is
+    # the hidden effect, not noise (truth_vel_* is the CG's)
+    r = np.asarray(getattr(an, "imu_position_m", (0.0, 0.0, 0.0)), float)
+    w = np.column_stack([df[f"truth_{c}"].to_numpy() for c in ("p_rad_s", "q_rad_s",
+                                                                "r_rad_s")])
+    wxr = np.cross(w, r[None])
+    for j, c in enumerate(("vel_u_m_s", "vel_v_m_s", "vel_w_m_s")):
+        tdf[c] = tdf[c].to_numpy() + wxr[:, j]
+    if "truth_height_agl_m" in df.columns and "height_agl_m" in tdf.columns:
+        tdf["height_agl_m"] = df["truth_height_agl_m"].to_numpy()  # the height's noise too
     z_truth_states = predict(an.model, Flight(tdf, "truth states"))
     state = an.band(an.zhat - z_truth_states)[an.mask]
     return np.sqrt(np.mean(sensor**2, 0) + np.mean(state**2, 0))
@@ -102,4 +114,5 @@ def analysed(model, ft, settings=None):
 
     an = analyse(model, ft, settings)
     an.truth_df = ft.df
+    an.imu_position_m = (ft.metadata.get("sim") or {}).get("imu_position_m", (0.0, 0.0, 0.0))
     return an
