@@ -13,12 +13,13 @@ over a deck looks like a CG offset: a trim shift proportional to the rotor force
   `wind_{n,e,d}_m_s`, rotated here by the flight's attitude), or for a simulated flight
   the word `truth` (its `truth_wind_*` columns).
 - **Unmodelled wind** (`WIND_CANDIDATE`): screened like a catalogue effect, with the
-  wind as the "parameters": a wind fixed in earth axes whose three components vary
-  slowly over the flight (Legendre polynomials of time up to `ORDER`), rotated into
-  body axes by the measured attitude. Its regressors are the model's sensitivities to
-  that wind (one prediction per basis function, at `SCREEN_STEP_M_S`), its refinement a
-  nonlinear least-squares fit of the coefficients (the model's response to a 10 m/s wind
-  is not linear). A steady or slowly drifting wind generalises across time blocks, so
+  wind as the "parameters": a wind field in earth axes (`basis`: a constant, a slow drift
+  in time as Legendre polynomials up to `ORDER`, and eq 3.15's linear variation with
+  position, whose half curl is the eq 5.3 rotation), rotated into body axes by the
+  measured attitude. Its regressors are the model's sensitivities to each coefficient
+  (one prediction per basis function), its refinement Gauss-Newton steps with the
+  sensitivities retaken at the fitted wind (the model's response to a 10 m/s wind is not
+  linear). A steady or slowly drifting wind generalises across time blocks, so
   the candidate competes with the catalogue on the same cross-validated share; the
   turbulence around it does not (it is what `airwake wind estimate` is for). When the
   wind is known, the candidate screens what the supplied wind still misses.
@@ -108,12 +109,6 @@ def basis(flight, order: int = ORDER) -> tuple[np.ndarray, list[str], np.ndarray
         if np.any(rot):
             out[k, :, 3:] = body_from_ned(flight.df, np.repeat(rot[None], n, 0))
     return out, [f[0] for f in funcs], np.array([f[3] for f in funcs])
-
-
-def wind_of(coef: np.ndarray, flight, order: int = ORDER) -> np.ndarray:
-    """(T, 6) body wind of the basis coefficients."""
-    b, _, _ = basis(flight, order)
-    return np.einsum("k,ktc->tc", np.asarray(coef, float), b)
 
 
 def describe(params: dict, flight, order: int = ORDER) -> dict:
