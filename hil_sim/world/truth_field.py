@@ -78,3 +78,11 @@ class TruthField:
                                     a[:, 2]])
 
         return np.column_stack([turn(v_ned), turn(w_ned)])
+
+    def mean_flow_ned(self, pos_ned_m: np.ndarray) -> np.ndarray:
+        """(N, 3) the field's time-averaged air velocity (no shedding, no turbulence) at
+        site NED positions: what a steady-state map (`airwake windmap`) is scored on."""
+        if self.ship is not None:
+            raise ValueError("a site-frame mean flow of a flight with a moving ship")
+        pos = np.asarray(pos_ned_m, dtype=float).reshape(-1, 3)
+        return self.field.mean_velocity_ned(0.0, pos)

@@ -60,10 +60,7 @@ def make_map(wind, flight, out_dir, *, cell_m: float = 0.5, layer_m: float = 1.0
 
     check_same_flight(wind.metadata, flight.df, wind_name, flight_name)
     out = Path(out_dir)
-    if out.exists() and (not out.is_dir() or (any(out.iterdir()) and not (
-            (out / "map.parquet").exists() or (out / "summary.json").exists()))):
-        raise WindEstimationError(f"--out {out}: exists and is not an earlier map (no "
-                                  "map.parquet): refusing to replace it")
+    check_map_dir(out, WindEstimationError)
     amap = build_map(wind.df, flight.df, wind_meta=wind.metadata, cell_m=cell_m,
                      layer_m=layer_m, min_seconds=min_seconds, u_ref=u_ref)
     if score:
@@ -82,18 +79,32 @@ def make_map(wind, flight, out_dir, *, cell_m: float = 0.5, layer_m: float = 1.0
             summary["score"] = {k: v for k, v in amap.score.items() if k != "truth_cells"}
         write_json(summary, tmp / "summary.json")
         (tmp / "index.html").write_text(_page(summary, amap))
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}-old-", dir=out.parent))
-            old.rmdir()
-            out.rename(old)
-            tmp.rename(out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            tmp.rename(out)
+        publish_dir(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return summary
+
+
+def check_map_dir(out: Path, error=WindEstimationError,
+                  markers=("map.parquet", "summary.json")) -> None:
+    """`error` unless `out` is absent, empty or an earlier map (holds one of `markers`)."""
+    if out.exists() and (not out.is_dir() or (any(out.iterdir()) and not any(
+            (out / m).exists() for m in markers))):
+        raise error(f"--out {out}: exists and is not an earlier map (no {markers[0]}): "
+                    "refusing to replace it")
+
+
+def publish_dir(tmp: Path, out: Path) -> None:
+    """Replace `out` by the complete directory `tmp` (renames: never half-written)."""
+    if out.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{out.name}-old-", dir=out.parent))
+        old.rmdir()
+        out.rename(old)
+        tmp.rename(out)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        tmp.rename(out)
 
 
 def _page(summary: dict, amap) -> str:
