@@ -14,6 +14,7 @@ TEST_SURVEY = SurveyConfig(x_range_m=(1.0, 6.0), y_range_m=(-0.6, 0.6),
 def survey(tmp_path_factory):
     """(FlightTable, path) of the survey written as a flight table (seed 5)."""
     from airwake.record.flight_table import load_flight_table, write_flight_table
+
     from hil_sim.world.anemometer_survey import survey_table
 
     df, meta = survey_table(TEST_SURVEY, seed=5)

@@ -3,7 +3,6 @@
 import numpy as np
 import pandas as pd
 import pytest
-
 from airwake.windmap.compensate import compensate
 from airwake.windmap.errors import WindMapError
 

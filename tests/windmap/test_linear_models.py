@@ -1,7 +1,6 @@
 """eq 3.15 and eq 5.3 fits recover exact linear fields."""
 
 import numpy as np
-
 from airwake.windmap.linear_models import fit_linear12, fit_rotation6
 
 

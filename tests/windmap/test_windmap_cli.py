@@ -3,7 +3,6 @@
 import json
 
 import pandas as pd
-
 from airwake.cli import main
 from airwake.record.flight_table import write_flight_table
 
