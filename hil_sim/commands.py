@@ -58,6 +58,20 @@ def register(subparsers) -> None:
     table.add_argument("--quiet", action="store_true", help="no progress line")
     table.set_defaults(func=_table)
 
+    survey = sub.add_parser(
+        "survey", help="a hand-carried anemometer survey of the two-fan hall (table)",
+        description="Carry the anemometer (with the tracking marker) through the "
+        "fans_indoor field: serpentine stations at several heights, dwelling at each "
+        "(reference §3.4). Writes a table of anemometer samples with the carrier's truth "
+        "pose, for `airwake windmap` (docs/wind-map.md).")
+    survey.add_argument("--out", required=True, metavar="SURVEY",
+                        help="output table (.parquet or .csv)")
+    survey.add_argument("--seed", type=int, default=2, help="random seed (2)")
+    survey.add_argument("--dwell-s", type=float, default=20.0,
+                        help="time at each station (20 s, the reference's)")
+    survey.add_argument("--json", action="store_true", help="print a JSON summary")
+    survey.set_defaults(func=_survey)
+
     lst = sub.add_parser("scenarios", help="list the shipped scenarios")
     lst.add_argument("--json", action="store_true")
     lst.set_defaults(func=_scenarios)
@@ -109,6 +123,44 @@ def _table(args) -> int:
               f"real-time factor {result.realtime_factor:.1f} "
               f"(integration {t.get('integration', 0):.1f} s, sensors "
               f"{t.get('sensors', 0):.1f} s, table {t.get('table', 0):.1f} s)")
+    return 0
+
+
+def _survey(args) -> int:
+    import json
+    import os
+    from pathlib import Path
+
+    from airwake.record.flight_table import FlightTableError, write_flight_table
+
+    from hil_sim.world.anemometer_survey import SurveyConfig, survey_table
+
+    out = Path(args.out)
+    if out.suffix.lower() not in (".parquet", ".pq", ".csv"):
+        raise FlightTableError(f"{out}: unknown table extension '{out.suffix}'; use "
+                               ".parquet or .csv")
+    if not out.parent.exists():
+        raise FlightTableError(f"{out}: directory {out.parent} does not exist")
+    try:
+        cfg = SurveyConfig(dwell_s=args.dwell_s)
+    except ValueError as exc:
+        raise FlightTableError(f"--dwell-s: {exc}") from None
+    df, meta = survey_table(cfg, seed=args.seed)
+    tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
+    try:
+        write_flight_table(df, tmp, meta)
+        os.replace(tmp, out)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    summary = {"out": str(out), "seed": args.seed, "rows": len(df),
+               "duration_s": float(df["t_s"].iloc[-1] - df["t_s"].iloc[0]),
+               "stations": len(cfg.stations())}
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(f"{out}: {len(df)} anemometer samples, {summary['stations']} stations, "
+              f"{summary['duration_s']:.0f} s (seed {args.seed})")
     return 0
 
 

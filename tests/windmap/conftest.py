@@ -4,10 +4,10 @@ import pytest
 
 from hil_sim.world.anemometer_survey import SurveyConfig
 
-# Smaller than the default survey (165 stations of 12 s instead of 364 of 20 s), still
-# dense enough for 1.3 x 1.3 x 0.6 m volumes around every station.
+# Smaller than the default survey (165 stations instead of 364; 20 s at each, as in the
+# reference), still dense enough for 1.3 x 1.3 x 0.6 m volumes around every station.
 TEST_SURVEY = SurveyConfig(x_range_m=(1.0, 6.0), y_range_m=(-0.6, 0.6),
-                           heights_d_m=(-1.5, -2.0, -2.5), dwell_s=12.0)
+                           heights_d_m=(-1.5, -2.0, -2.5), dwell_s=20.0)
 
 
 @pytest.fixture(scope="session")

@@ -2,9 +2,10 @@
 
     wmap = build_windmap(samples)        # locations, their volume fits, the 5 cm grid
 
-1. Locations: the samples are binned in cubes of `location_m`; a cube holding at least
-   `min_seconds` of data is a location (the reference's stations), at its samples' mean
-   position, with their mean flow (the measured mean flow there) and its spread.
+1. Locations: the samples are binned in cubes of `location_m`, and the cubes merged,
+   most-filled first, into locations at least `location_m` apart; a location holding at
+   least `min_seconds` of data is kept (the reference's stations), at its samples' mean
+   position, with their mean flow (the measured mean flow there).
 2. Volume fits: around each location, every sample within the volume
    `volume_m` = 1.3 x 1.3 x 0.6 m (centred there) fits eq 3.15 and eq 5.3
    (`linear_models`); the turbulence there is the norm of the per-component std of the
@@ -71,20 +72,37 @@ def _check_positive(name: str, values) -> None:
 
 
 def find_locations(s: CompensatedSamples, location_m: float, min_seconds: float):
-    """(centres (L, 3), mean flow (L, 3), samples (L,)) of the cubes holding
-    >= min_seconds."""
+    """(centres (L, 3), mean flow (L, 3), samples (L,)): cubes of `location_m` merged,
+    most-filled first, into the first location whose centre lies within `location_m`
+    (a station whose sway straddles a cube face stays one location); locations holding
+    >= min_seconds are kept."""
     idx = np.floor(s.pos / location_m).astype(np.int64)
     _, inverse, counts = np.unique(idx, axis=0, return_inverse=True, return_counts=True)
     inverse = inverse.reshape(-1)
-    keep = counts * s.dt >= min_seconds - 1e-9
-    if not keep.any():
-        raise WindMapError(f"no {location_m:g} m cube holds {min_seconds:g} s of "
-                           "anemometer data: dwell longer or lower --min-seconds")
-    k = keep.size
-    n = np.bincount(inverse, minlength=k).astype(float)
+    k = counts.size
+    n = counts.astype(float)
     centre = np.column_stack([np.bincount(inverse, s.pos[:, j], k) / n for j in range(3)])
-    flow = np.column_stack([np.bincount(inverse, s.wind[:, j], k) / n for j in range(3)])
-    return centre[keep], flow[keep], counts[keep]
+    owner = np.full(k, -1)
+    accepted: list[int] = []
+    for c in np.argsort(-counts, kind="stable"):
+        if accepted:
+            d = np.linalg.norm(centre[accepted] - centre[c], axis=1)
+            near = int(np.argmin(d))
+            if d[near] <= location_m:
+                owner[c] = accepted[near]
+                continue
+        owner[c] = c
+        accepted.append(int(c))
+    loc_of = owner[inverse]
+    m = np.bincount(loc_of, minlength=k).astype(float)
+    keep = m * s.dt >= min_seconds - 1e-9
+    if not keep.any():
+        raise WindMapError(f"no {location_m:g} m location holds {min_seconds:g} s of "
+                           "anemometer data: dwell longer or lower --min-seconds")
+    safe = np.maximum(m, 1.0)
+    centre = np.column_stack([np.bincount(loc_of, s.pos[:, j], k) / safe for j in range(3)])
+    flow = np.column_stack([np.bincount(loc_of, s.wind[:, j], k) / safe for j in range(3)])
+    return centre[keep], flow[keep], m[keep].astype(np.int64)
 
 
 def fit_volumes(s: CompensatedSamples, centres: np.ndarray, volume_m) -> dict:
