@@ -73,3 +73,15 @@ def test_refuses_to_replace_a_directory_that_is_not_a_map(survey, tmp_path, caps
     assert main(["windmap", str(path), "--out", str(out)]) == 2
     assert "refusing" in capsys.readouterr().err
     assert (out / "notes.txt").read_text() == "keep"
+
+
+def test_sim_survey_writes_a_table_windmap_reads(tmp_path, capsys):
+    out = tmp_path / "survey.parquet"
+    assert main(["sim", "survey", "--out", str(out), "--dwell-s", "1", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["stations"] == 364 and summary["rows"] > 364 * 100
+    from airwake.record.flight_table import load_flight_table
+
+    t = load_flight_table(out, required=("t_s", "anemo_u_m_s", "truth_yaw_rad"))
+    assert t.metadata["anemometer_lever_arm_m"] == [0.05, 0.0, -0.3]
+    assert t.metadata["scenario_config"]["wind"]["type"] == "fans_indoor"

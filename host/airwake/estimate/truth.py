@@ -18,8 +18,9 @@ PROVIDERS = ("hil_sim.world.truth_field",)
 
 
 def truth_field(flight_metadata: dict):
-    """An object with `relative_flow(t_s, pos_m, euler_rad, frame) -> (N, 6)` for a
-    simulated flight; WindEstimationError when no provider knows the flight."""
+    """An object with `relative_flow(t_s, pos_m, euler_rad, frame) -> (N, 6)` and
+    `mean_flow_ned(pos_ned_m) -> (N, 3)` (the time-averaged field, for steady-state maps)
+    for a simulated flight; WindEstimationError when no provider knows the flight."""
     reasons = []
     for name in PROVIDERS:
         try:
