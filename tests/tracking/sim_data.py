@@ -42,6 +42,10 @@ class MarkerFlight:
     lever_arm_body_m: np.ndarray  # (M, 3) lit LED from the marker centre
     truth_led_t_m: np.ndarray  # (M, 3)
     rest_s: float
+    losa_peak_px: np.ndarray  # (M, 4) wire peaks, as `losa_peaks` carries them
+    losa_slot: np.ndarray  # (M, 4) wire slots
+    losa_valid: np.ndarray  # (M, 4)
+    led_index: np.ndarray  # (M,) the lit LED
 
     def truth_in_tracker(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(position (K, 3), body -> tracker rotation (K, 3, 3)) of the marker centre."""
@@ -108,13 +112,15 @@ def simulate_flight(duration_s: float, seed: int, losa_rate_hz: float = 320.0,
         slots.append(wire)
         valid.append(ok & (fr.slot >= 0))
         led_pos.append(fr.led_pos_t_m)
-    pos, ok = triangulate(np.concatenate(peaks), np.concatenate(slots), np.concatenate(valid))
+    peaks, slots, valid = np.concatenate(peaks), np.concatenate(slots), np.concatenate(valid)
+    pos, ok = triangulate(peaks, slots, valid)
     for a, b in dropouts:
         ok &= ~((t_losa >= a) & (t_losa < b))
     radius = optics.config.led_radius_m
     return MarkerFlight(truth, imu.t_s, imu.gyro_rad_s, imu.accel_m_s2, t_losa,
                         np.where(ok[:, None], pos, np.nan), ok,
-                        radius * MARKER_LED_DIRECTIONS[led], np.concatenate(led_pos), rest_s)
+                        radius * MARKER_LED_DIRECTIONS[led], np.concatenate(led_pos), rest_s,
+                        peaks, slots, valid, led)
 
 
 def _peak_centroids(counts: np.ndarray, half: int = 3, min_counts: float = 60.0

@@ -1,0 +1,74 @@
+"""The pose EKF over a recording's message tables (offline, host timeline).
+
+Streams (`record.export.recording_streams`, "<board>/<message>" -> `MessageTable`):
+- `marker/imu` (450 Hz): `gyro_frd_rad_s`, `accel_frd_m_s2` — the prediction;
+- `losa/losa_peaks` (320 Hz): triangulated (`losa.triangulate`) — the updates;
+- `marker/marker_attitude` (120 Hz): `mode`, `gravity_frd_unit`, `los_frd_unit`,
+  `gyro_bias_frd_rad_s` at the end of the marker's calibration — the initial state
+  (eq 3.5 by TRIAD) — and `active_led`, which LED LOSA sees (the lever arm).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from airwake.tracking.attitude import initial_attitude
+from airwake.tracking.errors import TrackingError
+from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate
+from airwake.tracking.marker import led_lever_arms_body_m
+from airwake.tracking.pose_ekf import PoseEkf, PoseEkfConfig, PoseTrack, run_pose_ekf
+
+MARKER_IMU = "marker/imu"
+LOSA_PEAKS = "losa/losa_peaks"
+MARKER_ATTITUDE = "marker/marker_attitude"
+MODE_TRACKING = 3  # marker_attitude.mode: calibrated, tracking
+INIT_WINDOW_S = 0.2  # LOSA frames averaged for the initial position
+
+
+def track_streams(streams: Mapping, config: PoseEkfConfig | None = None) -> PoseTrack:
+    """Run the pose EKF over the marker IMU and LOSA peaks of one recording, from the
+    first `marker_attitude` row in tracking mode. Missing streams or no calibrated row
+    raise `TrackingError` naming them."""
+    missing = [k for k in (MARKER_IMU, LOSA_PEAKS, MARKER_ATTITUDE)
+               if k not in streams or len(streams[k]) == 0]
+    if missing:
+        raise TrackingError(f"pose tracking needs the streams {', '.join(missing)}; the "
+                            f"recording has {', '.join(sorted(streams)) or 'none'}")
+    imu, peaks, att = streams[MARKER_IMU], streams[LOSA_PEAKS], streams[MARKER_ATTITUDE]
+    cfg = config or PoseEkfConfig()
+
+    valid = (peaks.data["sensor_flags"] & SENSOR_FLAG_VALID) != 0
+    pos, ok = triangulate(peaks.data["peak_px"], peaks.data["slot"], valid)
+    # The LED lit at each frame: the last marker_attitude row at or before it.
+    k = np.clip(np.searchsorted(att.t_s, peaks.t_s, side="right") - 1, 0, len(att) - 1)
+    arms = led_lever_arms_body_m(att.data["active_led"][k])
+    ok &= np.all(np.isfinite(arms), axis=1)
+    arms = np.where(np.isfinite(arms), arms, 0.0)
+
+    tracking = np.flatnonzero(att.data["mode"] == MODE_TRACKING)
+    if tracking.size == 0:
+        raise TrackingError(f"{MARKER_ATTITUDE}: no row in tracking mode ({MODE_TRACKING}); "
+                            "the marker never finished its calibration")
+    row = att.data[tracking[0]]
+    t0 = float(att.t_s[tracking[0]])
+    near = ok & (np.abs(peaks.t_s - t0) <= INIT_WINDOW_S)
+    if not np.any(near):
+        raise TrackingError(f"{LOSA_PEAKS}: no valid triangulation within {INIT_WINDOW_S} s "
+                            f"of the marker's calibration at t = {t0:.3f} s")
+    led_pos = pos[near].mean(axis=0)
+    gravity_body = np.asarray(row["gravity_frd_unit"], dtype=float)
+    r0 = initial_attitude(-gravity_body, np.asarray(row["los_frd_unit"], dtype=float),
+                          led_pos, cfg.gravity_ref_m_s2)
+    q_xyzw = Rotation.from_matrix(r0).as_quat()
+    quat = np.array([q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]])
+    ekf = PoseEkf(t0, led_pos - r0 @ arms[near].mean(axis=0), quat,
+                  gyro_bias_rad_s=np.asarray(row["gyro_bias_frd_rad_s"], dtype=float),
+                  config=cfg)
+    i0 = int(np.searchsorted(imu.t_s, t0, side="right"))
+    sel = peaks.t_s > t0
+    return run_pose_ekf(ekf, imu.t_s[i0:], imu.data["gyro_frd_rad_s"][i0:],
+                        imu.data["accel_frd_m_s2"][i0:], peaks.t_s[sel], pos[sel], ok[sel],
+                        arms[sel])
