@@ -36,3 +36,31 @@ def test_grid_is_5_cm_and_parameters_are_finite(survey_map):
     np.testing.assert_allclose(np.diff(xs), 0.05, atol=1e-9)
     assert np.isfinite(g.drop(columns=["sampled"]).to_numpy(float)).all()
     assert (survey_map.locations["rank12"] == 4).all()
+
+
+def test_map_stays_within_target_with_a_trackers_pose_errors(survey):
+    # what the pose EKF will hand over instead of the truth: 1 deg attitude, 3 cm/s
+    # velocity and 1 cm position errors, correlated over ~1 s (Gauss-Markov)
+    from airwake.windmap.compensate import compensate
+    from airwake.windmap.grid import build_windmap
+    from airwake.windmap.report import score_windmap
+    from scipy.signal import lfilter
+
+    table, _ = survey
+    df = table.df.copy()
+    rng = np.random.default_rng(7)
+
+    def slow(sigma, tau_s):
+        a = np.exp(-0.01 / tau_s)
+        e = rng.standard_normal(len(df)) * sigma * np.sqrt(1 - a * a)
+        return lfilter([1.0], [1.0, -a], e)
+
+    for c in ("roll", "pitch", "yaw"):
+        df[f"truth_{c}_rad"] += slow(np.radians(1.0), 1.0)
+    for c in "uvw":
+        df[f"truth_vel_{c}_m_s"] += slow(0.03, 0.3)
+    for c in "ned":
+        df[f"truth_pos_{c}_m"] += slow(0.01, 1.0)
+    wmap = build_windmap(compensate(df, table.metadata))
+    sc = score_windmap(wmap, table.metadata)
+    assert sc["map"]["where_sampled"]["vector_rms_m_s"] < 0.2, sc["map"]
