@@ -52,6 +52,9 @@ def test_track_streams_follows_the_marker_from_its_message_tables():
     err = np.linalg.norm(track.pos_ref_m - pos, axis=1)
     assert np.sqrt(np.mean(err**2)) < 0.015, np.sqrt(np.mean(err**2))
     assert np.mean(track.losa_outcome == "accepted") > 0.95
+    smoothed = track_streams(_streams(flight, 7), smooth=True)
+    err_s = np.linalg.norm(smoothed.pos_ref_m - pos, axis=1)
+    assert np.sqrt(np.mean(err_s**2)) < np.sqrt(np.mean(err**2))
 
 
 def test_missing_streams_and_uncalibrated_marker_are_named():

@@ -64,7 +64,8 @@ def test_position_error_lower_than_triangulation_alone(flight_run):
 
 
 @pytest.mark.xfail(strict=True, reason="issue 12 target (>= 30 % lower) not met on the "
-                   "simulated optics: the triangulation error is time-correlated")
+                   "simulated optics by the forward filter: the triangulation error is "
+                   "time-correlated (the RTS smoother meets it: test_smoother.py)")
 def test_position_error_30_percent_lower_than_triangulation(flight_run):
     flight, _, track, sel = flight_run
     ekf_err, tri_err = _led_errors_m(flight, track, sel)

@@ -20,6 +20,7 @@ from airwake.tracking.errors import TrackingError
 from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate
 from airwake.tracking.marker import led_lever_arms_body_m
 from airwake.tracking.pose_ekf import PoseEkf, PoseEkfConfig, PoseTrack, run_pose_ekf
+from airwake.tracking.smoother import rts_smooth
 
 MARKER_IMU = "marker/imu"
 LOSA_PEAKS = "losa/losa_peaks"
@@ -28,10 +29,12 @@ MODE_TRACKING = 3  # marker_attitude.mode: calibrated, tracking
 INIT_WINDOW_S = 0.2  # LOSA frames averaged for the initial position
 
 
-def track_streams(streams: Mapping, config: PoseEkfConfig | None = None) -> PoseTrack:
+def track_streams(streams: Mapping, config: PoseEkfConfig | None = None,
+                  smooth: bool = False) -> PoseTrack:
     """Run the pose EKF over the marker IMU and LOSA peaks of one recording, from the
-    first `marker_attitude` row in tracking mode. Missing streams or no calibrated row
-    raise `TrackingError` naming them."""
+    first `marker_attitude` row in tracking mode; `smooth` returns the RTS-smoothed
+    states instead (`smoother.rts_smooth`; then the `losa_*` fields are empty).
+    Missing streams or no calibrated row raise `TrackingError` naming them."""
     missing = [k for k in (MARKER_IMU, LOSA_PEAKS, MARKER_ATTITUDE)
                if k not in streams or len(streams[k]) == 0]
     if missing:
@@ -66,9 +69,10 @@ def track_streams(streams: Mapping, config: PoseEkfConfig | None = None) -> Pose
     quat = np.array([q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]])
     ekf = PoseEkf(t0, led_pos - r0 @ arms[near].mean(axis=0), quat,
                   gyro_bias_rad_s=np.asarray(row["gyro_bias_frd_rad_s"], dtype=float),
-                  config=cfg)
+                  config=cfg, record_history=smooth)
     i0 = int(np.searchsorted(imu.t_s, t0, side="right"))
     sel = peaks.t_s > t0
-    return run_pose_ekf(ekf, imu.t_s[i0:], imu.data["gyro_frd_rad_s"][i0:],
-                        imu.data["accel_frd_m_s2"][i0:], peaks.t_s[sel], pos[sel], ok[sel],
-                        arms[sel])
+    track = run_pose_ekf(ekf, imu.t_s[i0:], imu.data["gyro_frd_rad_s"][i0:],
+                         imu.data["accel_frd_m_s2"][i0:], peaks.t_s[sel], pos[sel], ok[sel],
+                         arms[sel])
+    return rts_smooth(ekf) if smooth else track

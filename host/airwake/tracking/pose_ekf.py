@@ -200,7 +200,7 @@ class PoseEkf:
 
     def __init__(self, t_s: float, pos_ref_m, quat_wxyz, *, vel_ref_m_s=(0.0, 0.0, 0.0),
                  gyro_bias_rad_s=(0.0, 0.0, 0.0), accel_bias_m_s2=(0.0, 0.0, 0.0),
-                 config: PoseEkfConfig | None = None) -> None:
+                 config: PoseEkfConfig | None = None, record_history: bool = False) -> None:
         self.config = c = config or PoseEkfConfig()
         vectors = {"pos_ref_m": pos_ref_m, "vel_ref_m_s": vel_ref_m_s,
                    "gyro_bias_rad_s": gyro_bias_rad_s, "accel_bias_m_s2": accel_bias_m_s2}
@@ -235,6 +235,10 @@ class PoseEkf:
         self._last_accept_s = self.t_s
         self._rejections = 0
         self.counters = _Counters()
+        # For the RTS smoother (airwake.tracking.smoother): per propagation step the
+        # posterior before it, F, the prior after it, P of both, its time and whether an
+        # IMU sample (not a LOSA frame) ended it.
+        self.history: list[tuple] | None = [] if record_history else None
 
     # -- state -------------------------------------------------------------
 
@@ -260,12 +264,20 @@ class PoseEkf:
         dt = t_s - self.t_s
         if self._last_imu is not None and dt > 0:
             g0, a0 = self._last_imu
-            self._propagate(dt, 0.5 * (g0 + gyro), 0.5 * (a0 + accel))
+            self._propagate(dt, 0.5 * (g0 + gyro), 0.5 * (a0 + accel), imu=True)
         elif dt > 0:
-            self._propagate(dt, gyro, accel)
+            self._propagate(dt, gyro, accel, imu=True)
         self._last_imu = (gyro, accel)
 
-    def _propagate(self, dt: float, gyro: np.ndarray, accel: np.ndarray) -> None:
+    def nominal(self) -> tuple[np.ndarray, ...]:
+        """Copies of (p, v, q, b_g, b_a)."""
+        return (self.pos.copy(), self.vel.copy(), self.quat.copy(), self.gyro_bias.copy(),
+                self.accel_bias.copy())
+
+    def _propagate(self, dt: float, gyro: np.ndarray, accel: np.ndarray,
+                   imu: bool = False) -> None:
+        if self.history is not None:
+            post, p_post = self.nominal(), self.kf.P.copy()
         w = gyro - self.gyro_bias
         f = accel - self.accel_bias
         r = quat_to_matrix(self.quat)
@@ -289,6 +301,9 @@ class PoseEkf:
         self.kf.predict(F=F, Q=np.diag(self._q_density * dt))
         self.t_s += dt
         self.counters.predictions += 1
+        if self.history is not None:
+            self.history.append((post, p_post, F.copy(), self.nominal(), self.kf.P.copy(),
+                                 self.t_s, imu))
 
     # -- update (eq 3.10, 3.14) ---------------------------------------------
 
