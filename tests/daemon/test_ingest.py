@@ -7,7 +7,12 @@ import time
 
 import numpy as np
 import pytest
-from airwake.daemon.fake_boards import FakeBoard, marker_position, periodic_messages
+from airwake.daemon.fake_boards import (
+    FakeBoard,
+    marker_led_position,
+    marker_position,
+    periodic_messages,
+)
 from airwake.link.messages import BOARD_IDS
 from airwake.record.flight_table import load_flight_table
 from airwake.record.reader import open_recording
@@ -107,7 +112,7 @@ def test_decoded_values_read_back(session):
     sim = sim_of(session, "losa")
     t_boot = (peaks["board_us"] - sim.clock_offset_us) / (1 + sim.drift_ppm * 1e-6) / 1e6
     pos, ok = triangulate(peaks["peak_px"], peaks["slot"], peaks["sensor_flags"] & 1 == 1)
-    truth = np.array([marker_position(t) for t in t_boot])
+    truth = np.array([marker_led_position(t) for t in t_boot])
     assert ok.all() and np.max(np.abs(pos - truth)) < 2e-3  # f32 peaks, 1 us stamps
     pilot = session["tables"]["/base/pilot_inputs"].rows
     assert (pilot["valid_mask"] == 0x1F).all() and (pilot["pwm_us"][:, 4] == 1700).all()
@@ -143,8 +148,30 @@ def test_marker_loop_feeds_back_peaks_and_position(session):
     assert all(set(p) <= {0, 800} for p in lit)  # the tracker's peak, or not seen
     one_led = [p for p in lit if sorted(p) == [0, 0, 0, 800]]
     assert len(one_led) > 0.9 * len(lit)  # both only around the marker's LED switch
-    assert all(abs(c.pos_tracker_m[2] - 2.5) < 1e-3 for c in valid)
+    # the pose EKF's marker centre (the LED triangulation for the first commands)
+    assert all(abs(c.pos_tracker_m[2] - 2.5) < 0.02 for c in valid)
     assert valid[0].full_scale_counts == 4095
+    assert session["live"]["marker_loop"]["pos_source"] == "ekf"
+
+
+def test_live_pose_is_recorded_near_the_marker(session):
+    # the pose EKF runs on the ingest timeline and is recorded for Foxglove/PlotJuggler
+    rec = session["rec"]
+    poses = [m.json() for m in rec.messages(["/host/pose"])]
+    assert len(poses) > 0.8 * 120 * RUN_S  # one per marker IMU sample once started
+    t = np.array([p["t_s"] for p in poses])
+    assert np.all(np.diff(t) > 0)
+    sim = sim_of(session, "marker")
+    t_board = (t * 1e6 - sim.boot_mono_us) / 1e6  # fake boards: host scale since boot
+    pos = np.array([p["pos_tracker_m"] for p in poses])
+    err = np.linalg.norm(pos - np.array([marker_position(x) for x in t_board]), axis=1)
+    assert np.median(err) < 0.005 and np.max(err) < 0.03
+    q = np.array([p["quat_wxyz"] for p in poses])
+    assert np.all(np.isfinite(q)) and np.allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-6)
+    assert poses[-1]["valid"] and poses[-1]["accepted"] > 100
+    assert all(np.isfinite(poses[-1][k]).all() for k in ("pos_sigma_m", "att_sigma_rad"))
+    tracker = session["final"]["tracker"]
+    assert tracker["started"] and tracker["valid"]
 
 
 @pytest.mark.parametrize("ext", ["parquet", "csv"])

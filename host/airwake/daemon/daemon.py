@@ -14,7 +14,9 @@ frame: its origin board's `BoardLink` counts it and maps its board time
 header + packed payload, docs/recordings.md). Per port
 every 0.5 s a `time_sync_request` (NTP-style: the board's reply gives the two-sided clock
 fit) and every 0.25 s one of the host's `schema_entry` announcements. With a marker and a
-LOSA tracker present, `marker_command` at 60 Hz to the marker's port.
+LOSA tracker present, `marker_command` at 60 Hz to the marker's port, and (unless
+`track` is off) the live pose EKF (`tracking.live`) on the marker IMU and LOSA peaks,
+recorded on `/host/pose` and feeding the marker loop's position.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from airwake.link.health import BoardLink, RateMeter, board_health, port_health
 from airwake.link.messages import (
     BY_ID,
     HEARTBEAT,
+    IMU,
     LOG_TEXT,
     LOSA_PEAKS,
     LOSA_RAW_REQUEST,
@@ -72,6 +75,7 @@ class DaemonOptions:
     schema_period_s: float = 0.25
     status_period_s: float = 1.0
     marker_rate_hz: float = 60.0
+    track: bool = True  # the live pose EKF (runs once marker and LOSA frames arrive)
     flush_s: float = 0.25
     segment_s: float = 600.0
     record_metadata: dict = field(default_factory=dict)  # e.g. antenna offsets
@@ -118,6 +122,11 @@ class Daemon:
         from airwake.daemon.marker_loop import MarkerLoop
 
         self.marker = MarkerLoop(options.marker_rate_hz)
+        self.tracker = None
+        if options.track:
+            from airwake.tracking.live import LiveTracker
+
+            self.tracker = LiveTracker()
         self.recorder = RecordingWriter(options.out, {
             "daemon_version": __version__,
             "schema_hash": f"0x{SCHEMA_HASH:08X}",
@@ -191,6 +200,8 @@ class Daemon:
                 time.sleep(0.02)
             for key, _ in ready:
                 self._read(key.data)
+            if self.tracker is not None:
+                self._track()
             self._periodic(time.monotonic())
             self._reap_lost()
             spare = poll - (time.monotonic() - t0)
@@ -255,8 +266,15 @@ class Daemon:
         self.recorder.decoded(topic, info, int(mapped_us * 1000.0), rx_ns, body)
         if mid == LOSA_PEAKS.id:
             self.marker.on_peaks(f.msg, now_s)
+            if self.tracker is not None and origin == LOSA_ID:
+                self.tracker.on_peaks(mapped_us * 1e-6, f.msg)
         elif mid == MARKER_ATTITUDE.id:
             self.marker.on_attitude(f.msg)
+            if self.tracker is not None and origin == MARKER_ID:
+                self.tracker.on_attitude(mapped_us * 1e-6, f.msg)
+        elif mid == IMU.id:
+            if self.tracker is not None and origin == MARKER_ID:
+                self.tracker.on_imu(mapped_us * 1e-6, f.msg)
         elif mid == STAMP_LATENCY.id:
             if b.declare_stamp(f.msg) and b.identified:  # into the recording's board metadata
                 self.recorder.board(b.name, {**b.identity(), "first_seen_s": b.first_seen_s})
@@ -264,6 +282,17 @@ class Daemon:
             text = bytes(f.msg.text_utf8).split(b"\0", 1)[0].decode("utf-8", "replace")
             self.event("board_log", f"{b.name}: {text}", board=b.name, level=f.msg.level,
                        code=f.msg.code)
+
+    def _track(self) -> None:
+        """Apply the queued marker/LOSA frames to the pose EKF; record its poses."""
+        from airwake.tracking.live import POSE_SCHEMA
+
+        started = self.tracker.started
+        for pose in self.tracker.step():
+            self.recorder.json("/host/pose", int(pose["t_s"] * 1e9), pose, POSE_SCHEMA)
+        if self.tracker.started and not started:
+            self.event("tracker_started", "pose EKF started from the marker's calibration and "
+                       f"LOSA: position {self.tracker.status()['pos_tracker_m']} m")
 
     def _heartbeat(self, ps: PortState, b: BoardLink, hb, now_s: float) -> None:
         first = not b.identified
@@ -350,7 +379,10 @@ class Daemon:
         ps = next((p for p in self.ports if p.role == marker.port), None)
         if ps is None or not ps.port.is_open:
             return
-        cmd = self.marker.command(now_s)
+        estimate = None
+        if self.tracker is not None:
+            estimate = self.tracker.position(time.monotonic(), self.marker.max_age_s)
+        cmd = self.marker.command(now_s, estimate)
         now_ns = time.monotonic_ns()
         self._send(ps, cmd, now_ns)
         if cmd.pos_valid:
@@ -385,6 +417,8 @@ class Daemon:
             "ports": ports,
             "boards": {b.name: board_health(b, now_s) for b in self.boards.values()},
             "marker_loop": self.marker.status(),
+            **({"tracker": self.tracker.status()} if self.tracker is not None
+               and self.tracker.triangulated else {}),
             "events": list(self.events)[-5:],
         }
 

@@ -74,6 +74,7 @@ from airwake.link.messages import (
     TimeSyncReply,
 )
 from airwake.tracking.losa import DEFAULT_GEOMETRY, WIRE_PIXELS
+from airwake.tracking.marker import LED_DIRECTIONS_BODY, LED_RADIUS_M
 
 # Messages each board sends periodically, at MessageInfo.rate_hz[board].
 ON_DEMAND = {"heartbeat", "schema_entry", "time_sync_reply", "log_text", "losa_raw_line",
@@ -206,6 +207,9 @@ class BoardSim:
     def content(self, name: str, t: float):
         """Plausible, smooth values at t seconds since boot (a gentle hover)."""
         s = math.sin
+        if name == "imu" and self.origin == BOARD_IDS["marker"]:
+            return Imu((0.0, 0.0, 0.0), tuple(marker_specific_force_body(t)), (20.0, 0.0, 40.0),
+                       30.0, 4)
         if name == "imu":
             return Imu((0.01 * s(t), 0.02 * s(0.7 * t), 0.0), (0.1, 0.0, -9.8),
                        (20.0, 0.0, 40.0), 30.0, 4)
@@ -248,18 +252,44 @@ class BoardSim:
         if name == "rtk_status":
             return RtkStatus(int(t * 40), 0, 0, 10, 14, 4)
         if name == "marker_attitude":
-            return MarkerAttitude((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0), 3,
-                                  int(t / 2.0) % 4, 20000, (0.0, 0.0, 0.0), 10)
+            los_tracker = -marker_position(t) / np.linalg.norm(marker_position(t))
+            return MarkerAttitude((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0),
+                                  tuple(MARKER_BODY_TO_TRACKER.T @ los_tracker), 3,
+                                  marker_led(t), 20000, (0.0, 0.0, 0.0), 10)
         if name == "anemometer":
             return Anemometer((2.0 + 0.1 * s(3 * t), 0.3, -0.1), 20.0, 0)
         if name == "losa_peaks":
-            return losa_peaks_at(marker_position(t))
+            return losa_peaks_at(marker_led_position(t))
         raise ValueError(f"fake board {self.name}: no content for '{name}'")
 
 
+# The fake marker faces the tracker at a fixed attitude: body x (forward) -> tracker -z,
+# body y -> tracker -x, body z (down) -> tracker +y (down). Columns: body axes in the
+# tracker frame.
+MARKER_BODY_TO_TRACKER = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]])
+FAKE_GRAVITY_TRACKER_M_S2 = np.array([0.0, 9.798, 0.0])  # = tracking.pose_ekf's default
+
+
 def marker_position(t: float) -> np.ndarray:
-    """The fake marker's path in the tracker frame (m)."""
+    """The fake marker's centre path in the tracker frame (m)."""
     return np.array([0.3 * math.sin(0.5 * t), -0.2 + 0.1 * math.cos(0.3 * t), 2.5])
+
+
+def marker_specific_force_body(t: float) -> np.ndarray:
+    """What the marker's accelerometer reads on that path: R^T (a - g) (m/s^2)."""
+    accel = np.array([-0.075 * math.sin(0.5 * t), -0.009 * math.cos(0.3 * t), 0.0])
+    return MARKER_BODY_TO_TRACKER.T @ (accel - FAKE_GRAVITY_TRACKER_M_S2)
+
+
+def marker_led(t: float) -> int:
+    """The LED the fake marker lights (cycles every 2 s)."""
+    return int(t / 2.0) % 4
+
+
+def marker_led_position(t: float) -> np.ndarray:
+    """Where LOSA sees the fake marker: its lit LED, tracker frame (m)."""
+    return marker_position(t) + MARKER_BODY_TO_TRACKER @ (
+        LED_RADIUS_M * LED_DIRECTIONS_BODY[marker_led(t)])
 
 
 def losa_peaks_at(p: np.ndarray, intensity: int = 800) -> LosaPeaks:

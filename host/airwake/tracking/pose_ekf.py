@@ -248,6 +248,11 @@ class PoseEkf:
         return self.kf.P
 
     @property
+    def last_accept_s(self) -> float:
+        """Time of the last accepted (or re-acquiring) LOSA update."""
+        return self._last_accept_s
+
+    @property
     def rotation(self) -> np.ndarray:
         """(3, 3) body -> reference."""
         return quat_to_matrix(self.quat)
