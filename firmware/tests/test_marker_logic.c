@@ -89,7 +89,7 @@ static void test_marker_calibration_estimates_bias_gravity_and_los(void)
     CHECK(out.active_led == marker_led_facing(los));
 }
 
-/* After a 120 deg yaw the tracker is seen by another LED: the lit LED must follow the
+/* After a 180 deg yaw the tracker is seen by another LED: the lit LED must follow the
  * integrated attitude (LoS rotated by q). */
 static void test_marker_lit_led_follows_rotation(void)
 {
@@ -97,14 +97,14 @@ static void test_marker_lit_led_follows_rotation(void)
     marker_state_t st;
     uint32_t t = 0;
     marker_init(&st, &cfg, t);
-    float los[3] = {1.0f, 0.0f, 0.2f}; /* roughly LED 1 (azimuth 0) */
+    float los[3] = {1.0f, 1.0f, 1.2f}; /* roughly LED 0 (+1, +1, +1) */
     normalize3(los);
     t = run_still(&st, &cfg, t, 5100000u, los, 1.0f, BIAS);
     CHECK(st.mode == MARKER_MODE_TRACKING);
-    CHECK(marker_lit_led(&st) == 1);
+    CHECK(marker_lit_led(&st) == 0);
     const float l0[3] = {st.los_ref[0], st.los_ref[1], st.los_ref[2]};
-    /* yaw +120 deg about body z in 1 s: the tracker appears at azimuth -120 = LED 3 */
-    const float rate[3] = {BIAS[0], BIAS[1], BIAS[2] + 2.0943951f};
+    /* yaw +180 deg about body z in 1 s: the tracker appears at (-1, -1, +1.2) = LED 3 */
+    const float rate[3] = {BIAS[0], BIAS[1], BIAS[2] + 3.14159265f};
     for (uint32_t i = 0; i < 450; i++) {
         t += IMU_DT_US;
         marker_imu_step(&st, &cfg, t, rate, ACCEL_REST);
@@ -113,8 +113,8 @@ static void test_marker_lit_led_follows_rotation(void)
     marker_output_t out;
     marker_output(&st, &out);
     CHECK(out.active_led == 3);
-    /* the calibrated LoS, in the body frame rotated by -120 deg about z */
-    const float c = cosf(-2.0943951f), s = sinf(-2.0943951f);
+    /* the calibrated LoS, in the body frame rotated by -180 deg about z */
+    const float c = cosf(-3.14159265f), s = sinf(-3.14159265f);
     CHECK_NEAR(out.los[0], c * l0[0] - s * l0[1], 5e-3);
     CHECK_NEAR(out.los[1], s * l0[0] + c * l0[1], 5e-3);
     CHECK_NEAR(out.los[2], l0[2], 5e-3);
@@ -128,7 +128,7 @@ static void test_marker_intensity_settles_at_target_peak(void)
     marker_state_t st;
     uint32_t t = 0;
     marker_init(&st, &cfg, t);
-    float los[3] = {0.1f, 0.1f, -1.0f}; /* LED 0 */
+    float los[3] = {1.0f, 0.9f, 1.1f}; /* LED 0 */
     normalize3(los);
     t = run_still(&st, &cfg, t, 5100000u, los, 4.0f, BIAS);
     t = run_still(&st, &cfg, t, 2000000u, los, 4.0f, BIAS);

@@ -1,12 +1,13 @@
 /* LED geometry table, see leds.h. */
 #include "leds.h"
 
-/* 2 sqrt(2) / 3 = 0.9428090416, 1/3 = 0.3333333333 */
+/* 1 / sqrt(3) = 0.5773502692; the host's airwake.tracking.marker.LED_DIRECTIONS_BODY and
+ * the simulator's optics use the same table (tests/tracking/test_marker_geometry.py). */
 const float marker_led_dir[MARKER_LEDS][3] = {
-    {0.0f, 0.0f, -1.0f},
-    {0.9428090416f, 0.0f, 0.3333333333f},
-    {-0.4714045208f, 0.8164965809f, 0.3333333333f},
-    {-0.4714045208f, -0.8164965809f, 0.3333333333f},
+    {0.5773502692f, 0.5773502692f, 0.5773502692f},
+    {0.5773502692f, -0.5773502692f, -0.5773502692f},
+    {-0.5773502692f, 0.5773502692f, -0.5773502692f},
+    {-0.5773502692f, -0.5773502692f, 0.5773502692f},
 };
 
 unsigned marker_led_facing(const float v_body[3])

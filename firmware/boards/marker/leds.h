@@ -1,13 +1,13 @@
 /* LED directions of the active marker (reference §3.3.1.4): four IR LEDs on the faces
  * of a PCB tetrahedron, 110 deg viewing angle each, together covering every direction.
  *
- * Marker body frame: x forward, y right, z down (the IMU's axes). The tetrahedron
- * stands on its base; the outward face normals (unit vectors) are
- *   LED 0: straight up                          ( 0,      0,     -1  )
- *   LED k = 1..3: azimuth 120 (k-1) deg from +x, 19.47 deg below the horizon
- *          (cos az * 2 sqrt(2)/3, sin az * 2 sqrt(2)/3, +1/3)
- * Any two normals have dot product -1/3 (a regular tetrahedron). Change this table
- * (one place) if the hardware differs.
+ * Marker body frame: x forward, y right, z down (the IMU's axes). The outward face
+ * normals (unit vectors) point along cube diagonals:
+ *   LED 0 (+1, +1, +1) / sqrt 3     LED 1 (+1, -1, -1) / sqrt 3
+ *   LED 2 (-1, +1, -1) / sqrt 3     LED 3 (-1, -1, +1) / sqrt 3
+ * Any two normals have dot product -1/3 (a regular tetrahedron). The host's tracker
+ * (airwake.tracking.marker) and the simulator's optics use this table; a test keeps the
+ * three equal. Change all three if the hardware differs.
  */
 #ifndef AW_MARKER_LEDS_H
 #define AW_MARKER_LEDS_H

@@ -44,6 +44,7 @@ from airwake.record.flight_builder import (
     build_flight_table,
 )
 from airwake.record.latency import declared_latencies, latency_metadata, remove_latencies
+from airwake.record.marker_pose import TrackerPlacement
 from airwake.record.reader import Recording
 from airwake.record.rigging import PwmRigging
 
@@ -205,7 +206,30 @@ def build_config(rec: Recording, overrides: dict | None = None) -> FlightBuildCo
             values[k] = tuple(float(x) for x in values[k])
     if "rigging" in rec.metadata:
         values["rigging"] = PwmRigging.from_dict(rec.metadata["rigging"])
+    placement = tracker_placement(rec)
+    if placement is not None:
+        values.setdefault("tracker_placement", placement)
     return FlightBuildConfig(**values)
+
+
+def tracker_placement(rec: Recording) -> TrackerPlacement | None:
+    """The LOSA tracker's place in NED: the recording's metadata keys
+    `tracker_position_ned_m` (+ `tracker_heading_deg`, `tracker_tilt_deg`), else the rig a
+    SIL run wrote beside it (`sil/run.json`); None when neither says."""
+    import json
+
+    src = rec.metadata
+    if src.get("tracker_position_ned_m") is None:
+        run = rec.path / "sil" / "run.json"
+        try:
+            src = json.loads(run.read_text()).get("rig") or {}
+        except (OSError, ValueError):
+            return None
+        if src.get("tracker_position_ned_m") is None:
+            return None
+    return TrackerPlacement(tuple(float(x) for x in src["tracker_position_ned_m"]),
+                            float(src.get("tracker_heading_deg") or 0.0),
+                            float(src.get("tracker_tilt_deg") or 0.0))
 
 
 def export_recording(rec: Recording, overrides: dict | None = None, *,

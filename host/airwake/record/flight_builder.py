@@ -32,7 +32,12 @@ Output (docs/flight-table.md): one row per rover INS sample (150 Hz), columns
   (baseline + R(att) r_antenna->hub) + (x_b, y_b, -h_b), and `hub_ship_valid` where both
   the baseline and the base INS really had samples;
 - tracker (LOSA peaks triangulated): `tracker_pos_x/y/z_m`;
-- anemometer (marker): `anemo_u/v/w_m_s`, `anemo_temp_c`.
+- anemometer (marker): `anemo_u/v/w_m_s`, `anemo_temp_c`;
+- marker pose (`record.marker_pose`, when the marker IMU, marker attitude and LOSA peaks
+  are all there): the pose EKF + RTS smoother's `marker_pos_n/e/d_m`,
+  `marker_vel_n/e/d_m_s`, `marker_roll/pitch/yaw_rad`, `marker_p/q/r_rad_s` in NED
+  through `tracker_placement`, and `marker_valid`; metadata `marker_pose` says what was
+  done or why not.
 
 Missing data: the loader rejects NaN, so the table keeps only rows where every
 **required** stream (INS, pilot inputs, rotor speed) has samples on both sides no further
@@ -59,6 +64,11 @@ from airwake.record.differentiate import (
     smooth_derivative,
 )
 from airwake.record.geodesy import lla_to_ned
+from airwake.record.marker_pose import (
+    TrackerPlacement,
+    marker_pose_columns,
+    missing_marker_streams,
+)
 from airwake.record.rigging import BLADE_PITCH_COLUMNS, DEFAULT_RIGGING, PwmRigging
 
 # Stream keys the builder reads.
@@ -132,6 +142,7 @@ class FlightBuildConfig:
     base_antenna_ship_xy_m: tuple[float, float] | None = None
     rover_antenna_to_hub_frd_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     tracker_height_above_ground_m: float | None = None  # indoors: height from the tracker
+    tracker_placement: TrackerPlacement = TrackerPlacement()  # LOSA tracker in NED
     rigging: PwmRigging = DEFAULT_RIGGING
     derivative_window_s: float = DERIVATIVE_WINDOW_S
     derivative_polyorder: int = DERIVATIVE_POLYORDER
@@ -145,6 +156,7 @@ class FlightBuildConfig:
                 self.base_antenna_ship_xy_m),
             "rover_antenna_to_hub_frd_m": list(self.rover_antenna_to_hub_frd_m),
             "tracker_height_above_ground_m": self.tracker_height_above_ground_m,
+            "tracker_placement": self.tracker_placement.to_dict(),
             "rigging": self.rigging.to_dict(),
             "derivative": {"method": "savitzky-golay", "window_s": self.derivative_window_s,
                            "polyorder": self.derivative_polyorder},
@@ -239,6 +251,26 @@ def _spans(t: np.ndarray, mask: np.ndarray) -> list[list[float]]:
     d = np.diff(np.concatenate([[0], m, [0]]))
     starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1) - 1
     return [[float(t[a]), float(t[b])] for a, b in zip(starts, ends, strict=True)]
+
+
+def marker_pose_step(streams: Mapping[str, MessageTable], t_rows: np.ndarray,
+                     cfg: FlightBuildConfig, meta: dict) -> dict[str, np.ndarray]:
+    """The `marker_*` columns at t_rows when the streams allow; `meta["marker_pose"]`
+    records the track or, as one line, why there is none."""
+    from airwake.tracking.errors import TrackingError
+
+    missing = missing_marker_streams(streams)
+    if missing:
+        meta["marker_pose"] = {"reason": f"no marker pose: the recording lacks "
+                                         f"{', '.join(missing)}"}
+        return {}
+    try:
+        cols, info = marker_pose_columns(streams, t_rows, cfg.tracker_placement)
+    except TrackingError as e:
+        meta["marker_pose"] = {"reason": f"no marker pose: {e}"}
+        return {}
+    meta["marker_pose"] = info
+    return cols
 
 
 # ---------------------------------------------------------------------------
@@ -418,6 +450,8 @@ def build_flight_table(streams: Mapping[str, MessageTable],
                          "anemo_temp_c": np.interp(t, ta, np.asarray(arow["sonic_temp_c"],
                                                                      dtype=float)),
                          "anemo_valid": coverage(ta, t, gap[ANEMOMETER]).astype(float)})
+
+    cols.update(marker_pose_step(streams, t, cfg, meta))
 
     # -- trim to the rows every required stream covers ------------------------
     if not keep.any():

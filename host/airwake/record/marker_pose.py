@@ -1,0 +1,114 @@
+"""The tracked marker's pose as flight-table columns (`marker_*`, docs/flight-table.md).
+
+The pose EKF and its RTS smoother (`tracking.offline.track_streams(smooth=True)`) give
+the marker centre's position and velocity and the attitude marker -> tracker frame T
+(x right, y down, z out of the tracker's face) at each marker IMU sample. The tracker
+stands at `tracker_position_ned_m`, facing `tracker_heading_deg`, tilted up by
+`tracker_tilt_deg`; with R_TN the rotation NED -> T (rows x_T, y_T, z_T in NED):
+
+    p_ned = p_tracker + R_TN^T p_T,   v_ned = R_TN^T v_T,   R_NB = R_TN^T R_TB
+
+roll/pitch/yaw are R_NB's Z-Y-X Euler angles; p/q/r are the marker's gyro less the bias
+its calibration measured (body axes). Rows outside the track, where the marker IMU has
+a gap, or more than `LOSA_MAX_GAP_S` from a valid LOSA triangulation (the marker out of
+the tracker's view: IMU dead reckoning) get `marker_valid` 0 (values held at the edges,
+as every optional stream).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+MARKER_STREAMS = ("marker/imu", "losa/losa_peaks", "marker/marker_attitude")
+MARKER_IMU_MAX_GAP_S = 0.05
+# Rows farther than this from a valid LOSA triangulation are dead reckoning on the marker
+# IMU alone (metres of drift within seconds): not valid.
+LOSA_MAX_GAP_S = 0.25
+POSE_COLUMNS = tuple(
+    [f"marker_pos_{a}_m" for a in "ned"] + [f"marker_vel_{a}_m_s" for a in "ned"]
+    + [f"marker_{a}_rad" for a in ("roll", "pitch", "yaw")]
+    + [f"marker_{a}_rad_s" for a in "pqr"])
+
+
+@dataclass(frozen=True)
+class TrackerPlacement:
+    """Where the LOSA tracker stands in the site's NED frame (m, deg)."""
+
+    position_ned_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    heading_deg: float = 0.0
+    tilt_deg: float = 0.0
+
+    def ned_to_tracker(self) -> np.ndarray:
+        """(3, 3) R_TN, rows x_T (right), y_T (down), z_T (forward) in NED."""
+        psi, th = math.radians(self.heading_deg), math.radians(self.tilt_deg)
+        z = np.array([math.cos(th) * math.cos(psi), math.cos(th) * math.sin(psi),
+                      -math.sin(th)])
+        x = np.array([-math.sin(psi), math.cos(psi), 0.0])
+        return np.vstack([x, np.cross(z, x), z])
+
+    def to_dict(self) -> dict:
+        return {"tracker_position_ned_m": list(self.position_ned_m),
+                "tracker_heading_deg": self.heading_deg, "tracker_tilt_deg": self.tilt_deg}
+
+
+def missing_marker_streams(streams: Mapping) -> list[str]:
+    """The streams the pose EKF needs that `streams` lacks (empty counts as missing)."""
+    return [k for k in MARKER_STREAMS if k not in streams or len(streams[k]) == 0]
+
+
+def marker_pose_columns(streams: Mapping, t_rows: np.ndarray,
+                        placement: TrackerPlacement) -> tuple[dict[str, np.ndarray], dict]:
+    """(`marker_*` + `marker_valid` columns at `t_rows` (M,), metadata) from the smoothed
+    pose EKF. Raises `TrackingError` (missing streams, no calibration) as track_streams."""
+    from scipy.spatial.transform import Rotation
+
+    from airwake.record.flight_builder import coverage, interp_columns
+    from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate
+    from airwake.tracking.offline import (
+        LOSA_PEAKS,
+        MARKER_ATTITUDE,
+        MARKER_IMU,
+        MODE_TRACKING,
+        track_streams,
+    )
+
+    track = track_streams(streams, smooth=True)
+    r_tn = placement.ned_to_tracker()
+    t = np.asarray(track.t_s, dtype=float)
+    pos = np.asarray(placement.position_ned_m, float) + track.pos_ref_m @ r_tn
+    vel = track.vel_ref_m_s @ r_tn
+    q = track.quat_wxyz
+    r_tb = Rotation.from_quat(np.column_stack([q[:, 1], q[:, 2], q[:, 3], q[:, 0]]))
+    r_nb = Rotation.from_matrix(r_tn.T) * r_tb
+    yaw, pitch, roll = r_nb.as_euler("ZYX").T
+
+    imu, att = streams[MARKER_IMU], streams[MARKER_ATTITUDE]
+    calibrated = np.flatnonzero(att.data["mode"] == MODE_TRACKING)
+    bias = np.asarray(att.data["gyro_bias_frd_rad_s"][calibrated[0]], dtype=float)
+    order = np.argsort(imu.t_s, kind="stable")
+    t_imu = np.asarray(imu.t_s, float)[order]
+    rates = interp_columns(t_imu, np.asarray(imu.data["gyro_frd_rad_s"], float)[order] - bias,
+                           t_rows)
+
+    p_rows = interp_columns(t, pos, t_rows)
+    v_rows = interp_columns(t, vel, t_rows)
+    yaw_rows = np.pi - np.mod(np.pi - np.interp(t_rows, t, np.unwrap(yaw)), 2 * np.pi)
+    cols = {f"marker_pos_{a}_m": p_rows[:, i] for i, a in enumerate("ned")}
+    cols.update({f"marker_vel_{a}_m_s": v_rows[:, i] for i, a in enumerate("ned")})
+    cols.update({"marker_roll_rad": np.interp(t_rows, t, roll),
+                 "marker_pitch_rad": np.interp(t_rows, t, pitch), "marker_yaw_rad": yaw_rows})
+    cols.update({f"marker_{a}_rad_s": rates[:, i] for i, a in enumerate("pqr")})
+    peaks = streams[LOSA_PEAKS]
+    _, seen = triangulate(peaks.data["peak_px"], peaks.data["slot"],
+                          (peaks.data["sensor_flags"] & SENSOR_FLAG_VALID) != 0)
+    t_seen = np.sort(np.asarray(peaks.t_s, float)[seen])
+    valid = coverage(t, t_rows, MARKER_IMU_MAX_GAP_S) & coverage(t_seen, t_rows, LOSA_MAX_GAP_S)
+    cols["marker_valid"] = valid.astype(float)
+    meta = {"source": "pose EKF + RTS smoother (tracking.offline)", **placement.to_dict(),
+            "track_start_s": float(t[0]), "track_end_s": float(t[-1]), "samples": int(t.size),
+            "gyro_bias_frd_rad_s": bias.tolist(), "valid_fraction": float(valid.mean())}
+    return cols, meta
