@@ -13,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from airwake.link.messages import BY_NAME
+from airwake.record.flight_builder import MessageTable
 from airwake.tracking.losa import triangulate
 
 from hil_sim.sensors.losa import MARKER_LED_DIRECTIONS, LosaConfig, LosaOptics
@@ -166,3 +168,36 @@ def start_ekf(flight: MarkerFlight, seed: int, config=None):
                   dcm_to_quat(r0), gyro_bias_rad_s=flight.gyro_rad_s[rest].mean(axis=0),
                   config=config)
     return ekf, i0, flight.losa_t_s > flight.imu_t_s[i0]
+
+
+def _rows(name: str, n: int) -> np.ndarray:
+    return np.zeros(n, dtype=np.dtype(list(BY_NAME[name].dtype_descr)))
+
+
+def message_streams(flight: MarkerFlight, seed: int) -> dict:
+    """The flight as a recording's message tables (`marker/imu`, `losa/losa_peaks`,
+    `marker/marker_attitude`), what `tracking.offline.track_streams` reads."""
+    imu = _rows("imu", flight.imu_t_s.size)
+    imu["gyro_frd_rad_s"], imu["accel_frd_m_s2"] = flight.gyro_rad_s, flight.accel_m_s2
+    lp = _rows("losa_peaks", flight.losa_t_s.size)
+    lp["peak_px"] = np.where(flight.losa_valid, flight.losa_peak_px, np.nan)
+    lp["slot"], lp["sensor_flags"] = flight.losa_slot, flight.losa_valid.astype(np.uint8)
+    # The marker's attitude messages at 120 Hz: calibrating during the rest, then
+    # tracking; gravity from the mean accelerometer at rest, the line of sight from its
+    # LED scan (truth + 0.3 deg: the simulator has no model of the scan).
+    t_att = np.arange(0.0, flight.imu_t_s[-1], 1 / 120)
+    att = _rows("marker_attitude", t_att.size)
+    t_cal = flight.rest_s - 0.2
+    att["mode"] = np.where(t_att >= t_cal, 3, 1)
+    rest = flight.imu_t_s < t_cal
+    g = -flight.accel_m_s2[rest].mean(axis=0)
+    att["gravity_frd_unit"] = g / np.linalg.norm(g)
+    pos, rot = flight.truth_in_tracker(t_att)
+    los = np.einsum("kji,kj->ki", rot, -pos / np.linalg.norm(pos, axis=1, keepdims=True))
+    att["los_frd_unit"] = los + 0.005 * np.random.default_rng(seed).standard_normal(los.shape)
+    att["gyro_bias_frd_rad_s"] = flight.gyro_rad_s[rest].mean(axis=0)
+    k = np.clip(np.searchsorted(flight.losa_t_s, t_att), 0, flight.losa_t_s.size - 1)
+    att["active_led"] = flight.led_index[k]
+    return {"marker/imu": MessageTable(flight.imu_t_s, imu),
+            "losa/losa_peaks": MessageTable(flight.losa_t_s, lp),
+            "marker/marker_attitude": MessageTable(t_att, att)}

@@ -42,9 +42,10 @@ from airwake.record.flight_builder import (
     FlightBuildConfig,
     MessageTable,
     build_flight_table,
+    build_marker_table,
 )
 from airwake.record.latency import declared_latencies, latency_metadata, remove_latencies
-from airwake.record.marker_pose import TrackerPlacement
+from airwake.record.marker_pose import TrackerPlacement, missing_marker_streams
 from airwake.record.reader import Recording
 from airwake.record.rigging import PwmRigging
 
@@ -235,15 +236,21 @@ def tracker_placement(rec: Recording) -> TrackerPlacement | None:
 def export_recording(rec: Recording, overrides: dict | None = None, *,
                      remove_stamp_latency: bool = True) -> BuiltFlight:
     """The flight table of a recording, with metadata naming its sources, clock fits and
-    the stamp latencies removed (`remove_stamp_latency=False` keeps the boards' stamps)."""
+    the stamp latencies removed (`remove_stamp_latency=False` keeps the boards' stamps).
+    A recording without the rover (a hand-carried anemometer) gives the marker table
+    (`build_marker_table`: the marker pose and the anemometer at the marker IMU's rate)."""
     streams, report = recording_streams(rec)
-    if "rover/ins" not in streams:
-        raise ExportError(f"recording {rec.path}: no rover INS frames (streams: "
-                          f"{sorted(streams) or 'none'}); a flight table needs the rover")
+    marker_only = "rover/ins" not in streams
+    if marker_only and missing_marker_streams(streams):
+        raise ExportError(f"recording {rec.path}: no rover INS frames and no "
+                          f"{', '.join(missing_marker_streams(streams))} (streams: "
+                          f"{sorted(streams) or 'none'}); a flight table needs the rover, a "
+                          "marker table the marker and the LOSA tracker")
     declared = declared_latencies(streams)
     if remove_stamp_latency:
         streams = remove_latencies(streams, declared)
-    built = build_flight_table(streams, build_config(rec, overrides))
+    build = build_marker_table if marker_only else build_flight_table
+    built = build(streams, build_config(rec, overrides))
     built.metadata.update({
         "source": "recorder",
         "recording": str(rec.path),

@@ -80,6 +80,7 @@ TAIL_SERVO = "rover/tail_servo"
 RTK_BASELINE = "rover/rtk_baseline"
 LOSA_PEAKS = "losa/losa_peaks"
 ANEMOMETER = "marker/anemometer"
+MARKER_IMU = "marker/imu"
 REQUIRED_STREAMS = (ROVER_INS, PILOT_INPUTS, ROTOR_SPEED)
 # Largest spacing between two samples that a row may be interpolated across, per stream
 # (about 5 nominal periods; the RTK at 10 Hz may skip an epoch or two).
@@ -273,6 +274,55 @@ def marker_pose_step(streams: Mapping[str, MessageTable], t_rows: np.ndarray,
     return cols
 
 
+def anemometer_columns(streams: Mapping[str, MessageTable], t_rows: np.ndarray,
+                       max_gap_s: float) -> dict[str, np.ndarray]:
+    """`anemo_u/v/w_m_s`, `anemo_temp_c`, `anemo_valid` at t_rows (status-0 samples)."""
+    an = streams.get(ANEMOMETER)
+    if an is None or len(an) == 0:
+        return {}
+    ta, arow = _sorted_unique(an, np.asarray(an.data["status"]) == 0)
+    if ta.size == 0:
+        return {}
+    wind = interp_columns(ta, np.asarray(arow["wind_uvw_inst_m_s"], dtype=float), t_rows)
+    return {"anemo_u_m_s": wind[:, 0], "anemo_v_m_s": wind[:, 1], "anemo_w_m_s": wind[:, 2],
+            "anemo_temp_c": np.interp(t_rows, ta, np.asarray(arow["sonic_temp_c"], dtype=float)),
+            "anemo_valid": coverage(ta, t_rows, max_gap_s).astype(float)}
+
+
+def build_marker_table(streams: Mapping[str, MessageTable],
+                       config: FlightBuildConfig | None = None) -> BuiltFlight:
+    """A table without a helicopter (a hand-carried anemometer, docs/wind-map.md): one
+    row per marker IMU sample from the marker's calibration on, the `marker_*` pose and
+    the `anemo_*` columns. Missing marker or LOSA streams raise one line naming them."""
+    cfg = config or FlightBuildConfig()
+    missing = missing_marker_streams(streams)
+    if missing:
+        raise FlightBuildError(f"no marker pose: the streams lack {', '.join(missing)} "
+                               f"(streams given: {sorted(streams) or 'none'})")
+    gap = dict(DEFAULT_MAX_GAP_S)
+    gap.update(cfg.max_gap_s)
+    meta: dict = {"frame": "ned", "table": "marker",
+                  "streams": {k: len(v) for k, v in sorted(streams.items())},
+                  "builder": cfg.to_dict()}
+    t_imu, _ = _sorted_unique(streams[MARKER_IMU])
+    probe = marker_pose_step(streams, t_imu, cfg, meta)
+    if not probe:
+        raise FlightBuildError(meta["marker_pose"]["reason"])
+    info = meta["marker_pose"]
+    t = t_imu[(t_imu >= info["track_start_s"]) & (t_imu <= info["track_end_s"])]
+    cols: dict[str, np.ndarray] = {"t_s": t}
+    cols.update({k: v[np.searchsorted(t_imu, t)] for k, v in probe.items()})
+    cols.update(anemometer_columns(streams, t, gap[ANEMOMETER]))
+    df = pd.DataFrame({k: np.asarray(v, dtype=float) for k, v in cols.items()})
+    dt = np.diff(t)
+    meta.update({"trimmed": {"start_s": float(t[0]), "end_s": float(t[-1]),
+                             "rows_dropped_head": 0, "rows_dropped_tail": 0},
+                 "gaps": [], "rows_dropped_in_gaps": 0,
+                 "missing_streams": [] if "anemo_u_m_s" in cols else [ANEMOMETER],
+                 "rate_hz": float(1.0 / np.median(dt)) if dt.size else math.nan})
+    return BuiltFlight(df, meta)
+
+
 # ---------------------------------------------------------------------------
 # the builder
 # ---------------------------------------------------------------------------
@@ -440,17 +490,7 @@ def build_flight_table(streams: Mapping[str, MessageTable],
                              "hub_ship_valid": (hub_ok & (cols["ship_valid"] > 0.5))
                              .astype(float)})
 
-    an = streams.get(ANEMOMETER)
-    if an is not None and len(an):
-        ta, arow = _sorted_unique(an, np.asarray(an.data["status"]) == 0)
-        if ta.size:
-            wind = interp_columns(ta, np.asarray(arow["wind_uvw_inst_m_s"], dtype=float), t)
-            cols.update({"anemo_u_m_s": wind[:, 0], "anemo_v_m_s": wind[:, 1],
-                         "anemo_w_m_s": wind[:, 2],
-                         "anemo_temp_c": np.interp(t, ta, np.asarray(arow["sonic_temp_c"],
-                                                                     dtype=float)),
-                         "anemo_valid": coverage(ta, t, gap[ANEMOMETER]).astype(float)})
-
+    cols.update(anemometer_columns(streams, t, gap[ANEMOMETER]))
     cols.update(marker_pose_step(streams, t, cfg, meta))
 
     # -- trim to the rows every required stream covers ------------------------

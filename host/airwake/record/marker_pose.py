@@ -23,7 +23,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-MARKER_STREAMS = ("marker/imu", "losa/losa_peaks", "marker/marker_attitude")
 MARKER_IMU_MAX_GAP_S = 0.05
 # Rows farther than this from a valid LOSA triangulation are dead reckoning on the marker
 # IMU alone (metres of drift within seconds): not valid.
@@ -57,7 +56,10 @@ class TrackerPlacement:
 
 def missing_marker_streams(streams: Mapping) -> list[str]:
     """The streams the pose EKF needs that `streams` lacks (empty counts as missing)."""
-    return [k for k in MARKER_STREAMS if k not in streams or len(streams[k]) == 0]
+    from airwake.tracking.offline import LOSA_PEAKS, MARKER_ATTITUDE, MARKER_IMU
+
+    return [k for k in (MARKER_IMU, LOSA_PEAKS, MARKER_ATTITUDE)
+            if k not in streams or len(streams[k]) == 0]
 
 
 def marker_pose_columns(streams: Mapping, t_rows: np.ndarray,

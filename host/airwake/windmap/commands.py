@@ -31,10 +31,25 @@ def load_input(path: str):
         from airwake.record.export import export_recording
         from airwake.record.reader import open_recording
 
-        return export_recording(open_recording(p))
+        return _checked_export(p, export_recording(open_recording(p)))
     if not p.exists():
         raise WindMapError(f"{p}: no such flight table or recording")
     return load_flight_table(p, required=("t_s",))
+
+
+def _checked_export(path, built):
+    """A recording's table, refused in one line naming the stream it lacks."""
+    from airwake.record.flight_builder import ANEMOMETER
+    from airwake.windmap.errors import WindMapError
+
+    cols = set(built.df.columns)
+    if "anemo_u_m_s" not in cols:
+        raise WindMapError(f"recording {path}: no {ANEMOMETER} frames; the map needs the "
+                           "anemometer (streams: " + ", ".join(built.metadata["streams"]) + ")")
+    if "marker_pos_n_m" not in cols and "truth_pos_n_m" not in cols:
+        reason = (built.metadata.get("marker_pose") or {}).get("reason", "no marker pose")
+        raise WindMapError(f"recording {path}: {reason}")
+    return built
 
 
 def _handle(args: argparse.Namespace) -> int:
