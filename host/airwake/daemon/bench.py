@@ -3,7 +3,7 @@
 Four fake boards (`daemon.fake_boards`: LOSA peaks 320 Hz + IMU, marker attitude + IMU
 120 Hz + anemometer, rover INS / rotor 150 Hz + RTK 10 Hz + tail, base INS 150 Hz +
 pilot inputs; ~1,500 frames/s, ~85 kB/s over three ptys) run in one process, the daemon
-(`airwake daemon`, recording, marker loop on) in another. The daemon's CPU time
+(`airwake daemon`, recording, marker loop and live tracker on) in another. The daemon's CPU time
 (utime + stime from /proc) and RSS are sampled once a second:
 
 - `daemon_cpu_fraction`: CPU seconds per wall second over the run after a 5 s warm-up;
@@ -45,7 +45,7 @@ def _rss_mb(pid: int) -> float:
 
 
 def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
-            poll_ms: float = 5.0) -> dict:
+            poll_ms: float = 5.0, track: bool = True) -> dict:
     with tempfile.TemporaryDirectory(prefix="airwake-bench-") as tmp:
         run = Path(tmp)
         boards = subprocess.Popen([sys.executable, "-m", "airwake.daemon.fake_boards", str(run),
@@ -61,7 +61,7 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
             cmd = [sys.executable, "-m", "airwake.cli", "daemon", "--out", str(run / "rec"),
                    "--quiet", "--status-json", str(status), "--segment-s", "30",
                    "--poll-ms", str(poll_ms),
-                   "--duration", str(duration_s + warmup_s + 5)]
+                   "--duration", str(duration_s + warmup_s + 5)] + ([] if track else ["--no-track"])
             for role in ("losa", "marker", "base"):
                 cmd += ["--port", f"{role}={run / role}"]
             daemon = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
