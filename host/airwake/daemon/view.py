@@ -37,6 +37,15 @@ def render(st: dict) -> str:
     if m["commands_sent"]:
         pos = m["pos_tracker_m"]
         lines.append(f"marker loop: {m['commands_sent']} commands, LED {m['active_led']}, "
-                     + (f"pos {pos[0]:+.3f} {pos[1]:+.3f} {pos[2]:+.3f} m" if pos else
-                        "pos invalid"))
+                     + (f"pos {pos[0]:+.3f} {pos[1]:+.3f} {pos[2]:+.3f} m "
+                        f"({m.get('pos_source')})" if pos else "pos invalid"))
+    tr = st.get("tracker")
+    if tr:
+        lines.append(
+            f"tracker: {'valid' if tr.get('valid') else 'not valid'}, sigma "
+            + " ".join(f"{1e3 * v:.1f}" for v in tr["pos_sigma_m"])
+            + f" mm, accepted {tr['accepted']} gated {tr['gated']} late {tr['late']}"
+            if tr["started"] else
+            f"tracker: waiting ({'calibrated' if tr['calibrated'] else 'marker not calibrated'}"
+            f", {tr['triangulated']} LOSA fixes)")
     return "\n".join(lines)
