@@ -103,3 +103,15 @@ def test_daemon_without_marker_and_losa_records_no_pose(run_dir):
     assert "tracker" not in st and st["marker_loop"]["commands_sent"] == 0
     topics = open_recording(daemon.out).topics()
     assert "/host/pose" not in topics and "/host/marker_command" not in topics
+
+
+def test_live_tracker_skips_non_finite_imu_samples():
+    # one corrupt sample (a board bug, a bad cast) must not poison the estimate for good
+    stream = fake_stream(2.0, np.random.default_rng(4))
+    k = [i for i, e in enumerate(stream) if e[1] == "imu"][150]
+    t, _, msg = stream[k]
+    stream[k] = (t, "imu", msg._replace(gyro_frd_rad_s=(float("nan"), 0.0, 0.0)))
+    tracker = LiveTracker()
+    poses = feed(tracker, stream)
+    assert tracker.valid() and tracker.restarts == 0
+    assert all(np.isfinite(p["pos_tracker_m"]).all() for p in poses)

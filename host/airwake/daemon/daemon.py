@@ -288,7 +288,14 @@ class Daemon:
         from airwake.tracking.live import POSE_SCHEMA
 
         started = self.tracker.started
-        for pose in self.tracker.step():
+        try:
+            poses = self.tracker.step()
+        except Exception as exc:  # noqa: BLE001 -- the tracker must never stop the ingest
+            self.event("tracker_failed", f"live tracker: {type(exc).__name__}: {exc}; "
+                       "it stays off, recording continues", loud=True)
+            self.tracker = None
+            return
+        for pose in poses:
             self.recorder.json("/host/pose", int(pose["t_s"] * 1e9), pose, POSE_SCHEMA)
         if self.tracker.started and not started:
             self.event("tracker_started", "pose EKF started from the marker's calibration and "

@@ -91,6 +91,7 @@ class LiveTracker:
         self.recent: deque = deque()  # (t_s, led position, lever arm) before the start
         self.newest_s = -math.inf
         self.triangulated = 0
+        self.restarts = 0
         self._pending: list = []  # (t_s, LED position, LED index) since the last IMU sample
         self._queue: list = []
         self._n = 0  # tie-breaker: arrival order
@@ -122,9 +123,14 @@ class LiveTracker:
         while q and q[0][0] <= horizon:
             t_s, kind, _, msg = heapq.heappop(q)
             if kind == _IMU:
-                if self.ekf is not None:
+                if self.ekf is not None and math.isfinite(sum(msg.gyro_frd_rad_s)
+                                                          + sum(msg.accel_frd_m_s2)):
                     self.ekf.predict(t_s, msg.gyro_frd_rad_s, msg.accel_frd_m_s2)
                     self._fuse_pending()
+                    if not np.all(np.isfinite(self.ekf.pos)) or not np.all(
+                            np.isfinite(self.ekf.quat)):
+                        self.restart()  # diverged: start again at the next calibration
+                        continue
                     poses.append(self.pose())
             elif kind == _ATTITUDE:
                 self.active_led = msg.active_led
@@ -195,6 +201,14 @@ class LiveTracker:
                            config=self.config)
         self.recent.clear()
 
+    def restart(self) -> None:
+        """Drop the filter; it starts again from the marker's next tracking-mode row."""
+        self.ekf = None
+        self.calibration = None
+        self._pending = []
+        self.recent.clear()
+        self.restarts += 1
+
     # -- output --------------------------------------------------------------------
 
     @property
@@ -230,14 +244,14 @@ class LiveTracker:
         e = self.ekf
         if e is None:
             return {"started": False, "calibrated": self.calibration is not None,
-                    "triangulated": self.triangulated}
+                    "triangulated": self.triangulated, "restarts": self.restarts}
         c = e.counters
         return {"started": True, "valid": self.valid(), "t_s": round(e.t_s, 3),
                 "pos_tracker_m": [round(v, 4) for v in e.pos.tolist()],
                 "pos_sigma_m": [round(math.sqrt(max(v, 0.0)), 4)
                                 for v in np.diag(e.P)[P_].tolist()],
                 "accepted": c.accepted, "gated": c.gated, "reacquired": c.reacquired,
-                "late": c.late, "triangulated": self.triangulated}
+                "late": c.late, "triangulated": self.triangulated, "restarts": self.restarts}
 
 
 def rotation_to_quat_wxyz(r: np.ndarray) -> np.ndarray:
