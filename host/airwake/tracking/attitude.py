@@ -147,6 +147,14 @@ def quat_to_rotation_matrix(q_wxyz) -> np.ndarray:
     ], -2)
 
 
+def rotation_to_quat_wxyz(r: np.ndarray) -> np.ndarray:
+    """Unit [w, x, y, z] of a rotation matrix (3, 3) (scipy's, reordered)."""
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_matrix(r).as_quat()
+    return np.array([w, x, y, z])
+
+
 def initial_attitude(accel_body_m_s2, los_body, marker_pos_ref_m, gravity_ref_m_s2,
                      method: str = "triad",
                      min_angle_deg: float = MIN_PAIR_ANGLE_DEG) -> np.ndarray:

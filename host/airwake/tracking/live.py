@@ -32,7 +32,7 @@ from collections import deque
 
 import numpy as np
 
-from airwake.tracking.attitude import initial_attitude
+from airwake.tracking.attitude import initial_attitude, rotation_to_quat_wxyz
 from airwake.tracking.errors import TrackingError
 from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate_one
 from airwake.tracking.marker import LED_DIRECTIONS_BODY, LED_RADIUS_M, NO_LED
@@ -254,12 +254,4 @@ class LiveTracker:
                 "late": c.late, "triangulated": self.triangulated, "restarts": self.restarts}
 
 
-def rotation_to_quat_wxyz(r: np.ndarray) -> np.ndarray:
-    """Unit [w, x, y, z] of a rotation matrix (3, 3) (scipy's, reordered)."""
-    from scipy.spatial.transform import Rotation
-
-    x, y, z, w = Rotation.from_matrix(r).as_quat()
-    return np.array([w, x, y, z])
-
-
-__all__ = ["LiveTracker", "POSE_SCHEMA", "rotation_to_quat_wxyz"]
+__all__ = ["LiveTracker", "POSE_SCHEMA"]

@@ -13,9 +13,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
-from airwake.tracking.attitude import initial_attitude
+from airwake.tracking.attitude import initial_attitude, rotation_to_quat_wxyz
 from airwake.tracking.errors import TrackingError
 from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate
 from airwake.tracking.marker import led_lever_arms_body_m
@@ -65,9 +64,7 @@ def track_streams(streams: Mapping, config: PoseEkfConfig | None = None,
     gravity_body = np.asarray(row["gravity_frd_unit"], dtype=float)
     r0 = initial_attitude(-gravity_body, np.asarray(row["los_frd_unit"], dtype=float),
                           led_pos, cfg.gravity_ref_m_s2)
-    q_xyzw = Rotation.from_matrix(r0).as_quat()
-    quat = np.array([q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]])
-    ekf = PoseEkf(t0, led_pos - r0 @ arms[near].mean(axis=0), quat,
+    ekf = PoseEkf(t0, led_pos - r0 @ arms[near].mean(axis=0), rotation_to_quat_wxyz(r0),
                   gyro_bias_rad_s=np.asarray(row["gyro_bias_frd_rad_s"], dtype=float),
                   config=cfg, record_history=smooth)
     i0 = int(np.searchsorted(imu.t_s, t0, side="right"))
