@@ -293,7 +293,11 @@ class SilRun:
                 cmd += ["--base-antenna-ship-m",
                         ",".join(repr(float(v)) for v in build_config.base_antenna_ship_xy_m)]
         if "losa" in rig.boards:
-            cmd += ["--tracker-height-m", repr(rig.tracker_height_m)]
+            # "=" form: a value starting with "-" would read as an option
+            cmd += ["--tracker-height-m", repr(rig.tracker_height_m), "--tracker-position-m="
+                    + ",".join(repr(float(v)) for v in rig.tracker_position_ned_m),
+                    "--tracker-heading-deg", repr(float(rig.tracker_heading_deg)),
+                    "--tracker-tilt-deg", repr(float(rig.tracker_tilt_deg))]
         cmd += ["--meta", f"sil_scenario={self.scenario.name}", "--meta", f"sil_seed={self.seed}",
                 "--meta", f"sil_mode={self.mode}"]
         return cmd

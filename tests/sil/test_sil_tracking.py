@@ -91,3 +91,18 @@ def test_pose_metadata_names_the_placement(clean_flight):
     _, meta, _ = load_export(clean_flight)
     rig = json.loads((clean_flight / "rec" / "sil" / "run.json").read_text())["rig"]
     assert meta["marker_pose"]["tracker_position_ned_m"] == rig["tracker_position_ned_m"]
+
+
+def test_the_daemon_records_the_tracker_placement_it_was_given(clean_flight):
+    # SIL passes the rig's placement as `airwake daemon --tracker-position-m ...`: a real
+    # recording carries it the same way, so the export needs no SIL file
+    from airwake.record.export import tracker_placement
+    from airwake.record.reader import open_recording
+
+    rec = open_recording(clean_flight / "rec")
+    rig = json.loads((clean_flight / "rec" / "sil" / "run.json").read_text())["rig"]
+    assert rec.metadata["tracker_position_ned_m"] == rig["tracker_position_ned_m"]
+    placed = tracker_placement(rec)
+    assert list(placed.position_ned_m) == rig["tracker_position_ned_m"]
+    assert placed.heading_deg == rig["tracker_heading_deg"]
+

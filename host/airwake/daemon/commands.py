@@ -40,6 +40,14 @@ def _handle(args: argparse.Namespace) -> int:
                                                       "--rover-antenna-to-hub-m")
     if args.tracker_height_m is not None:
         meta["tracker_height_above_ground_m"] = args.tracker_height_m
+    if args.tracker_position_m is not None:
+        meta["tracker_position_ned_m"] = _floats(args.tracker_position_m, 3,
+                                                 "--tracker-position-m")
+        meta["tracker_heading_deg"] = args.tracker_heading_deg
+        meta["tracker_tilt_deg"] = args.tracker_tilt_deg
+    elif args.tracker_heading_deg or args.tracker_tilt_deg:
+        raise DaemonUsageError("--tracker-heading-deg/--tracker-tilt-deg need "
+                               "--tracker-position-m N,E,D (where the tracker stands)")
     for item in args.meta or []:
         key, sep, value = item.partition("=")
         if not sep or not key:
@@ -90,6 +98,14 @@ def register(subparsers) -> None:
                    help="rover antenna -> rotor hub, body axes FRD (m)")
     g.add_argument("--tracker-height-m", type=float,
                    help="indoors: LOSA tracker centre height above the floor (m)")
+    g.add_argument("--tracker-position-m", metavar="N,E,D",
+                   help="LOSA tracker centre in the site's NED frame (m): with it the export "
+                   "puts the tracked marker's pose in NED (docs/flight-table.md); write "
+                   "--tracker-position-m=-3.5,0,-1.5 when the first value is negative")
+    g.add_argument("--tracker-heading-deg", type=float, default=0.0,
+                   help="direction the tracker faces, from north (deg, default 0)")
+    g.add_argument("--tracker-tilt-deg", type=float, default=0.0,
+                   help="tracker face tilted up from horizontal (deg, default 0)")
     g.add_argument("--meta", action="append", metavar="KEY=VALUE",
                    help="extra metadata for the recording (repeat)")
     p.set_defaults(func=_handle)

@@ -215,8 +215,9 @@ def build_config(rec: Recording, overrides: dict | None = None) -> FlightBuildCo
 
 def tracker_placement(rec: Recording) -> TrackerPlacement | None:
     """The LOSA tracker's place in NED: the recording's metadata keys
-    `tracker_position_ned_m` (+ `tracker_heading_deg`, `tracker_tilt_deg`), else the rig a
-    SIL run wrote beside it (`sil/run.json`); None when neither says."""
+    `tracker_position_ned_m` (+ `tracker_heading_deg`, `tracker_tilt_deg`; the daemon's
+    `--tracker-position-m` etc.), else the rig a SIL run wrote beside it (`sil/run.json`,
+    older SIL recordings); None when neither says."""
     import json
 
     src = rec.metadata
