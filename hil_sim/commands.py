@@ -81,22 +81,32 @@ def register(subparsers) -> None:
     register_run(sub)
 
 
-def _table(args) -> int:
-    import json
-    import os
+def _table_path(path):
+    """The output table's Path, checked before any work: a known extension, an existing
+    directory (FlightTableError otherwise)."""
     from pathlib import Path
 
-    from airwake.progress import Progress
-    from airwake.record.flight_table import FlightTableError, write_flight_table
+    from airwake.record.flight_table import FlightTableError
 
-    from hil_sim.world.run import run_scenario
-
-    out = Path(args.out)
+    out = Path(path)
     if out.suffix.lower() not in (".parquet", ".pq", ".csv"):
         raise FlightTableError(f"{out}: unknown flight-table extension '{out.suffix}'; "
                                "use .parquet or .csv")
     if not out.parent.exists():
         raise FlightTableError(f"{out}: directory {out.parent} does not exist")
+    return out
+
+
+def _table(args) -> int:
+    import json
+    import os
+
+    from airwake.progress import Progress
+    from airwake.record.flight_table import write_flight_table
+
+    from hil_sim.world.run import run_scenario
+
+    out = _table_path(args.out)
     scenario, seed, duration = load_scenario_from_args(args)
     progress = Progress(f"sim {scenario.name}", duration, unit="s",
                         enabled=not (args.quiet or args.json))
@@ -129,18 +139,12 @@ def _table(args) -> int:
 def _survey(args) -> int:
     import json
     import os
-    from pathlib import Path
 
     from airwake.record.flight_table import FlightTableError, write_flight_table
 
     from hil_sim.world.anemometer_survey import SurveyConfig, survey_table
 
-    out = Path(args.out)
-    if out.suffix.lower() not in (".parquet", ".pq", ".csv"):
-        raise FlightTableError(f"{out}: unknown table extension '{out.suffix}'; use "
-                               ".parquet or .csv")
-    if not out.parent.exists():
-        raise FlightTableError(f"{out}: directory {out.parent} does not exist")
+    out = _table_path(args.out)
     try:
         cfg = SurveyConfig(dwell_s=args.dwell_s)
     except ValueError as exc:
