@@ -189,6 +189,7 @@ int aw_encode_log_text(uint8_t *out, size_t cap, uint8_t seq, uint8_t flags,
 #define AW_STAMP_LATENCY_STAMP_EVENT_TRANSMIT 0u
 #define AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_END 1u
 #define AW_STAMP_LATENCY_STAMP_EVENT_RC_FRAME_START 2u
+#define AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_START 3u
 typedef struct {
     uint8_t msg_id; /* the message id this entry describes */
     uint32_t latency_us; /* board_time_us of that message minus the sample instant of its data [us] */
@@ -584,7 +585,7 @@ int aw_encode_pilot_inputs(uint8_t *out, size_t cap, uint8_t seq, uint8_t flags,
 #define AW_SEED_ANEMOMETER 0xC4D1u
 #define AW_WIRE_MAX_ANEMOMETER 29u
 typedef struct {
-    float wind_uvw_inst_m_s[3]; /* wind u, v, w in the instrument frame [m/s] */
+    float wind_uvw_inst_m_s[3]; /* wind u, v, w in the instrument frame, x, y, z down (Young's W, positive up, negated) [m/s] */
     float sonic_temp_c; /* sonic temperature [degC] */
     uint8_t status; /* instrument status code (0 = ok) */
 } aw_anemometer_t;

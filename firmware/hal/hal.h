@@ -36,6 +36,7 @@ typedef enum {
     HAL_PORT_INS = 1,  /* VN200 binary output packets (rover, base) */
     HAL_PORT_RTK = 2,  /* Piksi RTK, SBP (rover, base) */
     HAL_PORT_ROVER = 3, /* base only: the XBee link that carries the rover's frames */
+    HAL_PORT_ANEMO = 4, /* marker only: the sonic anemometer's ASCII output (Young 81000) */
     HAL_PORT_COUNT
 } hal_port_t;
 

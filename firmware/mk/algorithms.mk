@@ -12,7 +12,7 @@
 
 ALGO_INC := -I$(FW)/common -I$(FW)/boards
 ALGO_SRCS_losa := $(addprefix $(FW)/boards/losa/,peak.c slots.c exposure.c frame.c)
-ALGO_SRCS_marker := $(addprefix $(FW)/boards/marker/,leds.c attitude.c marker_logic.c) $(FW)/common/quat.c
+ALGO_SRCS_marker := $(addprefix $(FW)/boards/marker/,leds.c attitude.c marker_logic.c young81000.c) $(FW)/common/quat.c
 ALGO_SRCS_parsers := $(addprefix $(FW)/boards/rover/,crc16_xmodem.c vn200.c sbp.c)
 ALGO_SRCS_rover := $(ALGO_SRCS_parsers) $(FW)/boards/rover/rotor_speed.c $(FW)/boards/base/pwm_capture.c
 ALGO_SRCS_base := $(ALGO_SRCS_parsers) $(addprefix $(FW)/boards/base/,pwm_capture.c sbus.c)

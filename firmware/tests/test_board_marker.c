@@ -85,11 +85,71 @@ static int test_marker_uses_host_feedback_to_finish_calibration(void)
     return 0;
 }
 
+/* The carried anemometer: each ASCII line becomes one anemometer frame, stamped with the
+ * board time its first byte was read, z down; the stamp latency is declared. */
+static int test_marker_forwards_anemometer_lines(void)
+{
+    const hal_t *hal = fake_hal_init();
+    const float gyro[3] = {0.0f, 0.0f, 0.0f};
+    const float accel[3] = {0.0f, 0.0f, -9.81f};
+    const float mag[3] = {20.0f, 0.0f, 40.0f};
+    fake_imu_sample(gyro, accel, mag);
+    fake_map_port(HAL_PORT_ANEMO, true);
+    board_init(hal);
+    test_frames_init(&out);
+    test_run_until(hal, fake.now_us + 1500000u); /* past the first heartbeat */
+    test_frames_take(&out, HAL_PORT_HOST);
+    test_frames_init(&out);
+    uint64_t first = 0;
+    for (int k = 0; k < 10; k++) {
+        char line[48];
+        int n = snprintf(line, sizeof(line), "%7.2f %7.2f %7.2f %7.2f\r\n", 0.5 * k, -1.0,
+                         0.25, 20.0);
+        uint64_t t = fake.now_us;
+        if (k == 0) {
+            first = t;
+        }
+        fake_uart_feed(HAL_PORT_ANEMO, (const uint8_t *)line, 1); /* first byte alone */
+        test_run_until(hal, t + 300u);
+        fake_uart_feed(HAL_PORT_ANEMO, (const uint8_t *)line + 1, (size_t)n - 1);
+        test_run_until(hal, t + 10000u);
+    }
+    fake_uart_feed(HAL_PORT_ANEMO, (const uint8_t *)"garbage\x01\r\n", 10);
+    test_run_until(hal, fake.now_us + 1100000u);
+    test_frames_take(&out, HAL_PORT_HOST);
+    int fails = 0;
+    size_t got = 0;
+    bool declared = false;
+    for (size_t i = 0; i < out.n; i++) {
+        if (out.f[i].h.msg_id == AW_ID_ANEMOMETER) {
+            aw_anemometer_t a;
+            aw_unpack_msg(AW_ID_ANEMOMETER, &a, out.f[i].payload, out.f[i].len);
+            fails += fabsf(a.wind_uvw_inst_m_s[0] - 0.5f * (float)got) > 1e-5f;
+            fails += fabsf(a.wind_uvw_inst_m_s[2] + 0.25f) > 1e-6f;
+            fails += a.status != 0u;
+            /* stamped when the first byte was read, not when the line completed */
+            fails += out.f[i].h.board_time_us != (uint32_t)(first + 10000u * got);
+            got++;
+        }
+        if (out.f[i].h.msg_id == AW_ID_STAMP_LATENCY) {
+            aw_stamp_latency_t e;
+            aw_unpack_msg(AW_ID_STAMP_LATENCY, &e, out.f[i].payload, out.f[i].len);
+            declared |= e.msg_id == AW_ID_ANEMOMETER && e.latency_us == YOUNG_STAMP_LATENCY_US;
+        }
+    }
+    CHECK(got == 10);
+    CHECK(fails == 0);
+    CHECK(declared);
+    CHECK(marker_board.anemo.lines_bad == 1u);
+    return 0;
+}
+
 int main(void)
 {
     int fails = 0;
     fails += test_marker_sends_attitude_and_imu_at_120_hz_with_one_led_lit();
     fails += test_marker_uses_host_feedback_to_finish_calibration();
+    fails += test_marker_forwards_anemometer_lines();
     if (fails) {
         fprintf(stderr, "test_board_marker: %d failed\n", fails);
         return 1;

@@ -47,7 +47,7 @@ HEADER = struct.Struct("<BBHIQ")  # type, chan, len (header + body), reserved, t
 ADVANCE, LINE, IMU, EDGE, UART, RESET = 0x01, 0x02, 0x03, 0x04, 0x05, 0x06
 HELLO, IDLE, PWM, UART_TX, BOOT = 0x81, 0x82, 0x83, 0x84, 0x85
 
-PORTS = ("host", "ins", "rtk", "rover")  # hal_port_t order
+PORTS = ("host", "ins", "rtk", "rover", "anemo")  # hal_port_t order
 CAPTURES = ("rc1", "rc2", "rc3", "rc4", "rc5", "rotor_ir", "tail_servo")  # hal_capture_t
 PWMS = ("led0", "led1", "led2", "led3")  # hal_pwm_t
 BOARDS = ("losa", "marker", "rover", "base")
@@ -182,7 +182,7 @@ class RawPty:
 class NativeBoard:
     """One native board process and its sim channel.
 
-    ports maps roles (host, ins, rtk, rover) to "sim" (bytes on the channel), a
+    ports maps roles (host, ins, rtk, rover, anemo) to "sim" (bytes on the channel), a
     path (a pty slave, e.g. `RawPty().path`), optionally with "@BAUD" to throttle
     the board's transmitter like the real UART.
     """

@@ -8,7 +8,13 @@ marker_board_t marker_board;
 
 static const uint8_t schema_ids[] = {
     AW_ID_HEARTBEAT, AW_ID_SCHEMA_ENTRY,     AW_ID_TIME_SYNC_REQUEST, AW_ID_TIME_SYNC_REPLY,
-    AW_ID_IMU,       AW_ID_MARKER_ATTITUDE, AW_ID_MARKER_COMMAND,
+    AW_ID_IMU,       AW_ID_MARKER_ATTITUDE, AW_ID_MARKER_COMMAND, AW_ID_ANEMOMETER,
+    AW_ID_STAMP_LATENCY,
+};
+
+/* anemometer frames are stamped one byte time after the line's output instant */
+static const board_stamp_t stamps[] = {
+    {AW_ID_ANEMOMETER, AW_STAMP_LATENCY_STAMP_EVENT_PEER_PACKET_START, YOUNG_STAMP_LATENCY_US},
 };
 
 static void drive_leds(marker_board_t *b, const hal_t *hal)
@@ -48,6 +54,8 @@ void board_init(const hal_t *hal)
     memset(b, 0, sizeof(*b));
     board_link_init(&b->link, hal, BOARD_ID, HAL_PORT_HOST, schema_ids,
                     (uint8_t)sizeof(schema_ids), on_host_frame, b);
+    board_link_declare_stamps(&b->link, stamps, (uint8_t)(sizeof(stamps) / sizeof(stamps[0])));
+    young_init(&b->anemo);
     b->imu_ok = mpu9250_init(hal, HAL_SPI_IMU, &b->imu);
     b->cfg = marker_default_cfg();
     b->t0_us = hal->micros();
@@ -99,12 +107,37 @@ static void send_outputs(marker_board_t *b, const hal_t *hal, uint64_t now)
     (void)hal;
 }
 
+/* Whatever the anemometer sent since the last task: complete lines go to the host. */
+static void forward_anemometer(marker_board_t *b, const hal_t *hal)
+{
+    uint8_t buf[64];
+    size_t got;
+    while ((got = hal->uart_read(HAL_PORT_ANEMO, buf, sizeof(buf))) > 0) {
+        uint64_t now = hal->micros();
+        size_t off = 0;
+        while (off < got) {
+            young_sample_t s[4];
+            size_t used = 0;
+            size_t n = young_feed(&b->anemo, buf + off, got - off, now, s, 4, &used);
+            off += used;
+            for (size_t i = 0; i < n; i++) {
+                aw_anemometer_t m = {.sonic_temp_c = s[i].temp_c, .status = s[i].status};
+                memcpy(m.wind_uvw_inst_m_s, s[i].uvw_m_s, sizeof(m.wind_uvw_inst_m_s));
+                if (board_link_send(&b->link, AW_ID_ANEMOMETER, &m, (uint32_t)s[i].t_us)) {
+                    b->anemo_sent++;
+                }
+            }
+        }
+    }
+}
+
 uint64_t board_task(const hal_t *hal)
 {
     marker_board_t *b = &marker_board;
     board_link_task_begin(&b->link);
     hal->watchdog_refresh();
     uint64_t due = board_link_poll(&b->link, 0); /* host feedback first, HELLO due */
+    forward_anemometer(b, hal);
     uint64_t now = hal->micros();
 
     if (board_tick_due(b->t0_us, &b->imu_k, MARKER_IMU_HZ, now)) {

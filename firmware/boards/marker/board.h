@@ -2,7 +2,9 @@
  * board.h (marker) — the active marker's wiring (reference §3.3.1.4): MPU-9250 at
  * 450 Hz into F2's marker logic (attitude, calibration, LED choice and intensity),
  * the four LED drivers on PWM, host feedback (marker_command) in, IMU + attitude
- * out at 120 Hz.
+ * out at 120 Hz. During wind mapping (§3.4) the marker rides with a sonic anemometer:
+ * its ASCII lines (HAL_PORT_ANEMO, young81000.h) are forwarded as `anemometer` frames
+ * as they complete, stamped with the line's first byte.
  */
 #ifndef AW_BOARD_MARKER_H
 #define AW_BOARD_MARKER_H
@@ -13,6 +15,7 @@
 #include "hal.h"
 #include "marker_logic.h"
 #include "mpu9250.h"
+#include "young81000.h"
 
 #define BOARD_NAME "marker"
 #define BOARD_ID AW_BOARD_MARKER
@@ -33,6 +36,8 @@ typedef struct {
     uint32_t out_k;        /* outputs scheduled since t0 */
     uint32_t imu_errors;
     uint32_t commands;     /* marker_command frames applied */
+    young_parser_t anemo;  /* the carried anemometer's lines */
+    uint32_t anemo_sent;   /* anemometer frames queued to the host */
 } marker_board_t;
 
 extern marker_board_t marker_board; /* for tests */

@@ -86,7 +86,7 @@ static _Noreturn void usage(const char *prog, const char *problem)
             "          [--port ROLE=PATH[@BAUD] | --port ROLE=sim[@BAUD] ...]\n"
             "          [--clock-drift-ppm PPM] [--clock-offset-us US] [--start-us US]\n"
             "          [--config FILE]\n"
-            "  ROLE: host, ins, rtk, rover. Stepped mode (the default with --sim) needs --sim.\n",
+            "  ROLE: host, ins, rtk, rover, anemo. Stepped mode (the default with --sim) needs --sim.\n",
             prog);
     exit(2);
 }

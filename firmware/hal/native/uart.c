@@ -44,7 +44,7 @@ typedef struct {
 
 static port_t ports[HAL_PORT_COUNT];
 
-static const char *const role_names[HAL_PORT_COUNT] = {"host", "ins", "rtk", "rover"};
+static const char *const role_names[HAL_PORT_COUNT] = {"host", "ins", "rtk", "rover", "anemo"};
 
 static bool set_raw(int fd)
 {
@@ -78,7 +78,7 @@ bool uart_map(const char *spec, char *err, size_t err_len)
         }
     }
     if (role < 0) {
-        snprintf(err, err_len, "--port %s: unknown role (host, ins, rtk, rover)", spec);
+        snprintf(err, err_len, "--port %s: unknown role (host, ins, rtk, rover, anemo)", spec);
         return false;
     }
     char path[512];

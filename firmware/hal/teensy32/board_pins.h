@@ -62,6 +62,7 @@ static const uart_map_t uart_map[HAL_PORT_COUNT] = {
     [HAL_PORT_INS] = NO_UART,
     [HAL_PORT_RTK] = NO_UART,
     [HAL_PORT_ROVER] = NO_UART,
+    [HAL_PORT_ANEMO] = NO_UART,
 };
 static const gpio_map_t gpio_map[HAL_PIN_COUNT] = {
     [HAL_PIN_LINE_SI] = {true, {PD, 0}},  /* pin 2 */
@@ -77,12 +78,14 @@ static const ftm_map_t capture_map[HAL_CAPTURE_COUNT] = {
 static const ftm_map_t pwm_map[HAL_PWM_COUNT] = {NO_FTM, NO_FTM, NO_FTM, NO_FTM};
 
 #elif defined(PINS_MARKER)
-/* Active marker: MPU-9250, four IR LED drivers on PWM, XBee Wi-Fi on the host UART. */
+/* Active marker: MPU-9250, four IR LED drivers on PWM, XBee Wi-Fi on the host UART,
+ * the carried anemometer's serial output on UART2 (RX pin 7; TX pin 8 unused). */
 static const uart_map_t uart_map[HAL_PORT_COUNT] = {
     [HAL_PORT_HOST] = UART0_PINS_0_1(460800),
     [HAL_PORT_INS] = NO_UART,
     [HAL_PORT_RTK] = NO_UART,
     [HAL_PORT_ROVER] = NO_UART,
+    [HAL_PORT_ANEMO] = UART2_PINS_7_8(38400), /* Young 81000 RS-232 via a MAX3232 */
 };
 static const gpio_map_t gpio_map[HAL_PIN_COUNT] = {
     [HAL_PIN_LINE_SI] = {false, {0, 0}},
@@ -108,6 +111,7 @@ static const uart_map_t uart_map[HAL_PORT_COUNT] = {
     [HAL_PORT_INS] = UART2_PINS_7_8(921600),  /* VN200 UART1 (binary output 1) */
     [HAL_PORT_RTK] = UART1_PINS_9_10(115200), /* Piksi UART0 (SBP) */
     [HAL_PORT_ROVER] = NO_UART,
+    [HAL_PORT_ANEMO] = NO_UART,
 };
 static const gpio_map_t gpio_map[HAL_PIN_COUNT] = {
     [HAL_PIN_LINE_SI] = {false, {0, 0}},
@@ -133,6 +137,7 @@ static const uart_map_t uart_map[HAL_PORT_COUNT] = {
     [HAL_PORT_INS] = UART2_PINS_7_8(921600),   /* VN200 */
     [HAL_PORT_RTK] = NO_UART,
     [HAL_PORT_ROVER] = UART1_PINS_9_10(460800), /* XBee Wi-Fi from the rover */
+    [HAL_PORT_ANEMO] = NO_UART,
 };
 static const gpio_map_t gpio_map[HAL_PIN_COUNT] = {
     [HAL_PIN_LINE_SI] = {false, {0, 0}},

@@ -457,11 +457,11 @@ STAMP_LATENCY = MessageInfo(
     fields=(
         FieldInfo('msg_id', 'u8', 1, '1', 'the message id this entry describes'),
         FieldInfo('latency_us', 'u32', 1, 'us', 'board_time_us of that message minus the sample instant of its data'),
-        FieldInfo('stamp_event', 'u8', 1, 'enum', 'what board_time_us of that message marks', values={0: 'transmit', 1: 'peer_packet_end', 2: 'rc_frame_start'}),
+        FieldInfo('stamp_event', 'u8', 1, 'enum', 'what board_time_us of that message marks', values={0: 'transmit', 1: 'peer_packet_end', 2: 'rc_frame_start', 3: 'peer_packet_start'}),
         FieldInfo('entry_index', 'u8', 1, '1', "index of this entry in the sender's list (0 .. entry_count-1)"),
         FieldInfo('entry_count', 'u8', 1, '1', 'number of entries the sender declares'),
     ),
-    rate_hz={'rover': 1, 'base': 2},
+    rate_hz={'rover': 1, 'base': 2, 'marker': 1},
     to=(),
     frozen=False,
     description="What one message's board_time_us marks and how long after the instant its data describe (the sample instant) that is, as far as the sender's firmware knows it: fixed parts only (a peer's documented output latency, a packet's time on a UART at the configured baud), from the firmware's own constants. The host subtracts it from the mapped times when it exports a flight table. A board sends one entry per message it describes after each heartbeat, so a receiver that joins late learns them within a second.",
@@ -1462,7 +1462,7 @@ ANEMOMETER = MessageInfo(
     payload_struct=_S_ANEMOMETER,
     frame_struct=_F_ANEMOMETER,
     fields=(
-        FieldInfo('wind_uvw_inst_m_s', 'f32', 3, 'm/s', 'wind u, v, w in the instrument frame'),
+        FieldInfo('wind_uvw_inst_m_s', 'f32', 3, 'm/s', "wind u, v, w in the instrument frame, x, y, z down (Young's W, positive up, negated)"),
         FieldInfo('sonic_temp_c', 'f32', 1, 'degC', 'sonic temperature'),
         FieldInfo('status', 'u8', 1, '1', 'instrument status code (0 = ok)'),
     ),
