@@ -1,0 +1,28 @@
+"""Pilot-input compensation networks (reference ch. 2 §2.1.4-2.2.2, §4.3).
+
+Networks predict the body rates (or roll/pitch angular accelerations) a helicopter's
+pilot inputs explain; what they cannot predict is the disturbance (the airwake).
+
+    from airwake.nets import load_net_flight, train_net, save_net, load_net, predict
+    net = train_net([load_net_flight("still.parquet")], target="rates", seed=0)
+    save_net(net, "rates.pt")
+    residuals = predict(load_net("rates.pt"), "ship.parquet")
+    # -> t_s, p_pred_rad_s, …, p_resid_rad_s, …, history_valid
+
+Files: features (eq 2.1-2.3), data (partial flight tables), split (time blocks), model
+(the network, its .pt file and model card), train (AdamW, PSO eq 4.11, ARX), metrics,
+evaluate (predict / held-out scores), commands (`airwake nets`), bench.
+"""
+
+from airwake.nets.data import NetFlight, load_net_flight, net_flight_from_df
+from airwake.nets.evaluate import evaluate_net, predict
+from airwake.nets.features import FeatureConfig, build_features
+from airwake.nets.model import NetFileError, PilotNet, load_net, save_net
+from airwake.nets.split import SplitConfig
+from airwake.nets.train import AdamWConfig, PSOConfig, train_net
+
+__all__ = [
+    "AdamWConfig", "FeatureConfig", "NetFileError", "NetFlight", "PSOConfig", "PilotNet",
+    "SplitConfig", "build_features", "evaluate_net", "load_net", "load_net_flight",
+    "net_flight_from_df", "predict", "save_net", "train_net",
+]

@@ -1,0 +1,166 @@
+"""`airwake nets train|evaluate`: the pilot-compensation networks (docs/networks.md)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+
+def _crop_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--from-s", type=float, default=None, metavar="T",
+                   help="use rows with t_s >= T (leave out a spool-up)")
+    p.add_argument("--to-s", type=float, default=None, metavar="T",
+                   help="use rows with t_s <= T (leave out a touchdown)")
+
+
+def register(subparsers) -> None:
+    group = subparsers.add_parser(
+        "nets", help="pilot-compensation networks: train, evaluate (docs/networks.md)",
+        description="Networks that predict body rates or roll/pitch angular accelerations "
+        "from the pilot's inputs (reference ch. 2, §4.3); what they cannot predict is the "
+        "disturbance.")
+    sub = group.add_subparsers(dest="nets_command", metavar="SUBCOMMAND")
+    group.set_defaults(_group_parser=group)
+
+    t = sub.add_parser("train", help="train a net on flights (time-block split)",
+                       description="Train a rate (p, q, r) or angular-acceleration (pdot, "
+                       "qdot) network on one or more flight tables with a time-block "
+                       "train/validation/test split, fit the linear ARX baseline on the same "
+                       "rows, and save weights + model card to NET.pt.")
+    t.add_argument("flights", nargs="+", metavar="FLIGHT", help="flight tables (.parquet/.csv)")
+    t.add_argument("--target", choices=("rates", "accel"), default="rates")
+    t.add_argument("--out", required=True, metavar="NET.pt")
+    t.add_argument("--trainer", choices=("adamw", "pso"), default="adamw")
+    t.add_argument("--seed", type=int, default=0)
+    t.add_argument("--hidden", default="16,8", metavar="H1,H2",
+                   help="hidden layer sizes of each axis' MLP (default 16,8)")
+    t.add_argument("--line-window-s", type=float, default=None, help="eq 2.1 history (0.5 s)")
+    t.add_argument("--rate-lag", type=int, default=None, metavar="SAMPLES",
+                   help="previous rates fed back, in samples (rates: 1, accel: 0)")
+    t.add_argument("--block-s", type=float, default=None, help="split block length (5 s)")
+    t.add_argument("--inputs", choices=("delta", "pwm", "rc_norm"), default=None,
+                   help="pilot-input columns (default: the first complete set)")
+    _crop_args(t)
+    t.add_argument("--json", action="store_true", help="print the model card as JSON")
+    t.add_argument("--quiet", action="store_true", help="no progress line")
+    t.set_defaults(func=_train)
+
+    e = sub.add_parser("evaluate", help="score a net on flights (held-out rows)",
+                       description="RMS and MAE per axis (deg/s for rates, rad/s^2 for "
+                       "accelerations) on held-out rows: a training flight's test blocks, "
+                       "every row of any other flight; against the measured and the "
+                       "low-passed target, next to the ARX baseline and persistence.")
+    e.add_argument("net", metavar="NET.pt")
+    e.add_argument("flights", nargs="+", metavar="FLIGHT")
+    _crop_args(e)
+    e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.add_argument("--out", default=None, metavar="PRED.parquet",
+                   help="write t_s, <axis>_pred_*, <axis>_resid_* of every flight (column "
+                   "'flight' = index of FLIGHT when several)")
+    e.set_defaults(func=_evaluate)
+
+
+def _load_flights(paths, target, inputs, from_s, to_s):
+    from airwake.nets import load_net_flight
+
+    flights = [load_net_flight(p, target, inputs) for p in paths]
+    if from_s is not None or to_s is not None:
+        flights = [f.crop(from_s, to_s) for f in flights]
+    return flights
+
+
+def _train(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from airwake.nets import FeatureConfig, SplitConfig, save_net, train_net
+    from airwake.nets.model import NetFileError
+    from airwake.nets.train import DEFAULT_RATE_LAG
+
+    out = Path(args.out)
+    if out.suffix != ".pt" or not out.parent.is_dir():
+        raise NetFileError(f"--out {out}: needs a .pt file in an existing folder")
+    try:
+        hidden = tuple(int(h) for h in args.hidden.split(",") if h.strip())
+        if not hidden or min(hidden) < 1:
+            raise ValueError
+    except ValueError:
+        raise NetFileError(f"--hidden {args.hidden!r}: expected sizes like 16,8") from None
+    fkw = {"rate_lag_samples": DEFAULT_RATE_LAG[args.target] if args.rate_lag is None
+           else args.rate_lag}
+    if args.line_window_s is not None:
+        fkw["line_window_s"] = args.line_window_s
+    try:
+        features = FeatureConfig(**fkw)
+        split = SplitConfig(**({"block_s": args.block_s} if args.block_s else {}))
+        flights = _load_flights(args.flights, args.target, args.inputs, args.from_s, args.to_s)
+        net = train_net(flights, target=args.target, trainer=args.trainer, seed=args.seed,
+                        features=features, split=split, hidden=hidden,
+                        progress=not args.quiet)
+    except ValueError as exc:
+        raise NetFileError(f"nets train: {exc}") from None
+    save_net(net, out)
+    if args.json:
+        print(json.dumps(net.card, indent=2, sort_keys=True))
+    else:
+        m = net.card["metrics"]
+        print(f"{args.target} net ({args.trainer}, seed {args.seed}): {len(flights)} flight(s), "
+              f"{m['train']['rows']} train / {m['val']['rows']} validation / "
+              f"{m['test']['rows']} test rows, {net.card['train_seconds']:.1f} s")
+        print(format_scores(m["test"], m["unit"], "held-out test blocks"))
+        print(f"wrote {out}")
+    return 0
+
+
+def format_scores(scores: dict, unit: str, title: str) -> str:
+    """A small text table: model x axis, RMS / MAE, measured and low-passed target."""
+    lines = [f"{title}: {scores['rows']} rows, RMS / MAE in {unit}"]
+    axes = list(next(iter(scores["measured"].values())).keys())
+    head = f"  {'target':<10}{'model':<13}" + "".join(f"{a:>18}" for a in axes)
+    lines.append(head)
+    for ref in ("measured", "lowpass"):
+        for model, per in scores[ref].items():
+            cells = "".join(f"{per[a]['rms']:>9.3f} /{per[a]['mae']:>7.3f}" for a in axes)
+            lines.append(f"  {ref:<10}{model:<13}{cells}")
+    return "\n".join(lines)
+
+
+def _evaluate(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    import pandas as pd
+
+    from airwake.nets import evaluate_net, load_net, predict
+
+    net = load_net(args.net)
+    flights = _load_flights(args.flights, net.card["target"], net.card["input_source"],
+                            args.from_s, args.to_s)
+    from airwake.nets.evaluate import as_net_flight
+
+    flights = [as_net_flight(net, f) for f in flights]
+    report = evaluate_net(net, flights)
+    if args.out:
+        out = Path(args.out)
+        if out.suffix not in (".parquet", ".csv") or not out.parent.is_dir():
+            from airwake.nets.model import NetFileError
+
+            raise NetFileError(f"--out {out}: needs a .parquet or .csv file in an existing folder")
+        frames = []
+        for i, f in enumerate(flights):
+            df = predict(net, f)
+            if len(flights) > 1:
+                df.insert(0, "flight", i)
+            frames.append(df)
+        df = pd.concat(frames, ignore_index=True)
+        df.to_parquet(out, index=False) if out.suffix == ".parquet" else df.to_csv(out, index=False)
+        report["out"] = str(out)
+    if args.json:
+        print(json.dumps(report, indent=2, sort_keys=True))
+        return 0
+    for f in report["flights"]:
+        print(format_scores(f, report["unit"], f"{f['path']} ({f['scored']})"))
+    if len(report["flights"]) > 1:
+        print(format_scores(report["overall"], report["unit"], "all flights"))
+    if args.out:
+        print(f"wrote {args.out}", file=sys.stderr)
+    return 0

@@ -1,0 +1,156 @@
+"""The pilot-compensation network and its file: weights + model card, no pickled objects.
+
+    net = PilotNet(n_features, n_outputs, hidden=(16, 8))
+    y = net.predict_numpy(X)          # (T, F) features -> (T, K) in the target's SI unit
+    save_net(net, "net.pt");  net = load_net("net.pt")   # net.card: the model card
+
+The network is the linear ARX map plus one small tanh MLP per output axis (the reference
+trained one network per channel, §2.2.2), all on standardised features:
+
+    z = (x - x_mean) / x_std
+    y_k = y_mean_k + y_std_k * (A_k z + b_k + MLP_k(z))
+
+A (the skip) starts at the least-squares ARX solution and every MLP's last layer at
+zero, so training starts from the linear baseline and early stopping on validation can
+only keep an MLP that beats it there. The .pt file is a dict of tensors and strings
+(format, card JSON, state_dict) read with `torch.load(weights_only=True)`.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import torch
+from torch import nn
+
+from airwake.errors import AirwakeError
+
+FORMAT = "airwake-net/1"
+
+
+class NetFileError(AirwakeError):
+    """A network file that cannot be used (file and what is wrong named)."""
+
+
+class PilotNet(nn.Module):
+    """ARX skip + per-axis MLPs on standardised features; see the module docstring."""
+
+    def __init__(self, n_features: int, n_outputs: int, hidden=(16, 8),
+                 card: dict | None = None) -> None:
+        super().__init__()
+        self.card = dict(card or {})  # the model card (train_net / load_net fill it)
+        if n_features < 1 or n_outputs < 1:
+            raise ValueError(
+                f"PilotNet needs >= 1 feature and output, got {n_features}, {n_outputs}")
+        self.n_features, self.n_outputs = int(n_features), int(n_outputs)
+        self.hidden = tuple(int(h) for h in hidden)
+        for name, size in (("x_mean", n_features), ("y_mean", n_outputs)):
+            self.register_buffer(name, torch.zeros(size, dtype=torch.float64))
+        for name, size in (("x_std", n_features), ("y_std", n_outputs)):
+            self.register_buffer(name, torch.ones(size, dtype=torch.float64))
+        # the least-squares baseline, kept apart from the trained skip for comparison
+        self.register_buffer("arx_weight",
+                             torch.zeros(n_outputs, n_features + 1, dtype=torch.float64))
+        self.skip = nn.Linear(n_features, n_outputs)
+        self.mlps = nn.ModuleList(_mlp(n_features, self.hidden) for _ in range(n_outputs))
+
+    def set_scaling(self, x: np.ndarray, y: np.ndarray) -> None:
+        """Standardise with the training rows' mean and std (a constant column: std 1)."""
+        xs, ys = x.std(axis=0), y.std(axis=0)
+        self.x_mean.copy_(torch.as_tensor(x.mean(axis=0)))
+        self.x_std.copy_(torch.as_tensor(np.where(xs > 1e-12, xs, 1.0)))
+        self.y_mean.copy_(torch.as_tensor(y.mean(axis=0)))
+        self.y_std.copy_(torch.as_tensor(np.where(ys > 1e-12, ys, 1.0)))
+
+    def standardise(self, x) -> torch.Tensor:
+        x = torch.as_tensor(x, dtype=torch.float64)
+        return ((x - self.x_mean) / self.x_std).to(torch.float32)
+
+    def forward_standard(self, z: torch.Tensor) -> torch.Tensor:
+        """Standardised features (N, F) -> standardised outputs (N, K)."""
+        return self.skip(z) + torch.cat([m(z) for m in self.mlps], dim=-1)
+
+    def forward(self, x) -> torch.Tensor:
+        out = self.forward_standard(self.standardise(x)).to(torch.float64)
+        return out * self.y_std + self.y_mean
+
+    @torch.no_grad()
+    def predict_numpy(self, x: np.ndarray) -> np.ndarray:
+        return self.forward(x).numpy()
+
+    def set_arx(self, weight_standard: np.ndarray) -> None:
+        """Store the ARX solution (K, F+1) on standardised data and start the skip there;
+        every MLP's output layer starts at zero (the net starts as the ARX model)."""
+        w = torch.as_tensor(weight_standard, dtype=torch.float64)
+        self.arx_weight.copy_(w)
+        with torch.no_grad():
+            self.skip.weight.copy_(w[:, :-1].float())
+            self.skip.bias.copy_(w[:, -1].float())
+            for m in self.mlps:
+                m[-1].weight.zero_()
+                m[-1].bias.zero_()
+
+    @torch.no_grad()
+    def predict_arx(self, x: np.ndarray) -> np.ndarray:
+        z = (torch.as_tensor(x, dtype=torch.float64) - self.x_mean) / self.x_std
+        out = z @ self.arx_weight[:, :-1].T + self.arx_weight[:, -1]
+        return (out * self.y_std + self.y_mean).numpy()
+
+
+def _mlp(n_in: int, hidden) -> nn.Sequential:
+    layers: list[nn.Module] = []
+    for h in hidden:
+        layers += [nn.Linear(n_in, h), nn.Tanh()]
+        n_in = h
+    layers.append(nn.Linear(n_in, 1))
+    return nn.Sequential(*layers)
+
+
+def fit_arx(z: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Least squares y ~ [z, 1] W^T on standardised data: (N, F), (N, K) -> W (K, F+1)."""
+    a = np.column_stack([z, np.ones(len(z))])
+    w, *_ = np.linalg.lstsq(a, y, rcond=None)
+    return w.T
+
+
+def save_net(net: PilotNet, path) -> Path:
+    """Write weights + net.card; the card carries what load_net needs to rebuild the net."""
+    p = Path(path)
+    if p.suffix != ".pt":
+        raise NetFileError(f"{p}: a network file ends in .pt")
+    if not p.parent.is_dir():
+        raise NetFileError(f"{p}: folder {p.parent} does not exist")
+    card = {**net.card, "format": FORMAT, "n_features": net.n_features,
+            "n_outputs": net.n_outputs, "hidden": list(net.hidden)}
+    blob = {"format": FORMAT, "card_json": json.dumps(card, sort_keys=True),
+            "state_dict": {k: v.detach().clone() for k, v in net.state_dict().items()}}
+    tmp = p.with_name(f".{p.name}.tmp")
+    torch.save(blob, tmp)
+    tmp.replace(p)
+    return p
+
+
+def load_net(path) -> PilotNet:
+    """Read a file written by save_net; nothing but tensors and strings is unpickled."""
+    p = Path(path)
+    if not p.is_file():
+        raise NetFileError(f"network file {p} not found")
+    try:
+        blob = torch.load(p, map_location="cpu", weights_only=True)
+    except Exception as exc:  # noqa: BLE001 — a corrupt or foreign file is a user error
+        raise NetFileError(f"{p}: not a network file ({type(exc).__name__}: "
+                           f"{str(exc).splitlines()[0] if str(exc) else ''})") from None
+    if not isinstance(blob, dict) or blob.get("format") != FORMAT:
+        fmt = blob.get("format") if isinstance(blob, dict) else type(blob).__name__
+        raise NetFileError(f"{p}: format {fmt!r}, expected {FORMAT!r}")
+    card = json.loads(blob["card_json"])
+    net = PilotNet(card["n_features"], card["n_outputs"], tuple(card["hidden"]), card)
+    try:
+        net.load_state_dict(blob["state_dict"], strict=True)
+    except RuntimeError as exc:
+        first = str(exc).splitlines()[0]
+        raise NetFileError(f"{p}: weights do not match the card: {first}") from None
+    net.eval()
+    return net

@@ -1,0 +1,315 @@
+"""Training the pilot-compensation networks: AdamW with early stopping, or the
+reference's particle swarm (eq 4.11), on the same time-block split, with the linear
+ARX baseline fitted on the same rows.
+
+    net = train_net([flight_a, flight_b], target="rates", trainer="adamw", seed=0)
+    net.card["metrics"]["test"]      # net / arx / persistence per axis, held-out blocks
+
+Deterministic: one torch thread, seeded torch and numpy generators, no shuffling that
+does not come from them.
+"""
+
+from __future__ import annotations
+
+import platform
+import time
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+import torch
+
+from airwake.nets.data import INPUT_SOURCES, NetFlight
+from airwake.nets.features import FeatureConfig, build_features
+from airwake.nets.metrics import score_sets, smoothed_target
+from airwake.nets.model import PilotNet, fit_arx
+from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, block_split
+
+OUTPUTS = {"rates": ("p_rad_s", "q_rad_s", "r_rad_s"), "accel": ("pdot_rad_s2", "qdot_rad_s2")}
+DEFAULT_RATE_LAG = {"rates": 1, "accel": 0}
+
+# eq 4.11 as the reference wrote it for the networks (§4.3.2): inertia m, C1, C2
+PSO_INERTIA, PSO_C1, PSO_C2 = 0.2, 0.1, 0.2
+
+
+@dataclass(frozen=True)
+class AdamWConfig:
+    lr: float = 2e-3
+    weight_decay: float = 1e-4
+    batch_size: int = 256
+    max_epochs: int = 300
+    patience: int = 25
+
+
+@dataclass(frozen=True)
+class PSOConfig:
+    particles: int = 48
+    iterations: int = 300
+    cost_rows: int = 1500
+    spread: float = 0.5
+    patience: int = 60
+    bound: float = 10.0
+
+
+@dataclass
+class Dataset:
+    """Feature rows of several flights with their set labels."""
+
+    x: np.ndarray  # (N, F)
+    y: np.ndarray  # (N, K) target in SI
+    y_lp: np.ndarray  # (N, K) the target low-passed per flight (metrics.SCORE_LOWPASS)
+    prev: np.ndarray | None  # (N, K) persistence baseline (rates lagged), None for accel
+    labels: np.ndarray  # (N,) TRAIN / VAL / TEST / GUARD
+    names: list[str]
+    flights: list[dict] = field(default_factory=list)
+
+
+def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
+    """X (T, F), names, y (T, K), persistence (T, K) or None for one flight."""
+    if target == "rates" and config.rate_lag_samples < 1:
+        raise ValueError("the rate target needs rate_lag_samples >= 1 (lag 0 is the answer)")
+    x, names = build_features(flight.inputs, flight.roll_rad, flight.pitch_rad,
+                              flight.rates_rad_s, flight.rate_hz, config)
+    if target == "rates":
+        y = flight.rates_rad_s
+        prev = x[:, -3:]
+    else:
+        y = flight.accel_rad_s2
+        prev = None
+    return x, names, y, prev
+
+
+def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfig,
+                  rng) -> Dataset:
+    xs, ys, lps, ps, ls, meta, names = [], [], [], [], [], [], []
+    for f in flights:
+        x, names, y, prev = flight_features(f, target, config)
+        labels = block_split(f.t_s, split, config.history_s(f.rate_hz), rng)
+        xs.append(x)
+        ys.append(y)
+        lps.append(smoothed_target(y, f.rate_hz))
+        ps.append(prev)
+        ls.append(labels)
+        meta.append({"path": f.source, "fingerprint": f.fingerprint, "rows": len(f),
+                     "rate_hz": f.rate_hz, "input_source": f.input_source,
+                     "t_range_s": [float(f.t_s[0]), float(f.t_s[-1])],
+                     "labels_rle": _rle(labels),
+                     **{f"{k}_rows": int((labels == v).sum())
+                        for k, v in (("train", TRAIN), ("val", VAL), ("test", TEST))}})
+    prev = None if target == "accel" else np.concatenate(ps)
+    return Dataset(np.concatenate(xs), np.concatenate(ys), np.concatenate(lps), prev,
+                   np.concatenate(ls), names, meta)
+
+
+def _rle(labels: np.ndarray) -> list[list[int]]:
+    """Run-length code [[label, count], ...]: the card stores each flight's split."""
+    change = np.flatnonzero(np.diff(labels)) + 1
+    starts = np.r_[0, change]
+    counts = np.diff(np.r_[starts, labels.size])
+    return [[int(labels[s]), int(c)] for s, c in zip(starts, counts, strict=True)]
+
+
+def unrle(runs) -> np.ndarray:
+    return np.concatenate([np.full(c, lab, dtype=int) for lab, c in runs])
+
+
+def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: torch.Generator,
+                progress=None) -> dict:
+    """Minibatch AdamW on the standardised MSE; keeps the weights of the best validation
+    loss (epoch 0 = the ARX start) and stops after `patience` epochs without a better one."""
+    opt = torch.optim.AdamW(net.parameters(), lr=cfg.lr, weight_decay=cfg.weight_decay)
+    n = z_tr.shape[0]
+
+    def val_loss() -> float:
+        with torch.no_grad():
+            return float(((net.forward_standard(z_va) - y_va) ** 2).mean())
+
+    best = val_loss()
+    best_state = {k: v.clone() for k, v in net.state_dict().items()}
+    best_epoch, history = 0, [best]
+    for epoch in range(1, cfg.max_epochs + 1):
+        net.train()
+        perm = torch.randperm(n, generator=gen)
+        for i in range(0, n, cfg.batch_size):
+            idx = perm[i:i + cfg.batch_size]
+            opt.zero_grad()
+            loss = ((net.forward_standard(z_tr[idx]) - y_tr[idx]) ** 2).mean()
+            loss.backward()
+            opt.step()
+        net.eval()
+        v = val_loss()
+        history.append(v)
+        if v < best:
+            best, best_epoch = v, epoch
+            best_state = {k: t.clone() for k, t in net.state_dict().items()}
+        if progress is not None:
+            progress.update(epoch, f"val {v:.4g} (best {best:.4g} at {best_epoch})")
+        if epoch - best_epoch >= cfg.patience:
+            break
+    net.load_state_dict(best_state)
+    return {"epochs_run": len(history) - 1, "best_epoch": best_epoch,
+            "best_val_mse_standard": best, "val_history": [round(h, 6) for h in history]}
+
+
+def _flat(net: PilotNet) -> np.ndarray:
+    return torch.nn.utils.parameters_to_vector(net.parameters()).detach().double().numpy()
+
+
+def batched_forward_standard(net: PilotNet, flat: torch.Tensor, z: torch.Tensor) -> torch.Tensor:
+    """net.forward_standard for N parameter vectors at once: flat (N, D), z (M, F) ->
+    (N, M, K). The vectors are laid out as parameters_to_vector(net.parameters())."""
+    pieces, off = [], 0
+    for p in net.parameters():
+        pieces.append(flat[:, off:off + p.numel()].reshape(flat.shape[0], *p.shape))
+        off += p.numel()
+    it = iter(pieces)
+    w, b = next(it), next(it)
+    out = torch.einsum("nkf,mf->nmk", w, z) + b[:, None, :]
+    cols = []
+    for mlp in net.mlps:
+        h = z.expand(flat.shape[0], *z.shape)
+        for layer in mlp:
+            if isinstance(layer, torch.nn.Linear):
+                w, b = next(it), next(it)
+                h = torch.baddbmm(b[:, None, :], h, w.transpose(1, 2))
+            else:
+                h = torch.tanh(h)
+        cols.append(h)
+    return out + torch.cat(cols, dim=-1)
+
+
+def train_pso(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: PSOConfig, rng, progress=None) -> dict:
+    """The reference's trainer (§4.3.2-4.3.3): a swarm over every weight and bias, eq 4.11
+    with m = 0.2, C1 = 0.1, C2 = 0.2, cost = RMS error on a fixed seeded subset of the
+    training rows; the global best is checked on validation and the best one kept
+    (stopping after `patience` iterations without a better one). The swarm's first
+    particle is the ARX start, so the result is never worse than it on the cost rows."""
+    from airwake.calibrate.pso import initial_swarm, pso_update
+
+    start = _flat(net)
+    d = start.size
+    lo = -np.maximum(cfg.bound, 2 * np.abs(start))
+    hi = -lo
+    free = np.ones(d, bool)
+    rows = rng.choice(z_tr.shape[0], size=min(cfg.cost_rows, z_tr.shape[0]), replace=False)
+    zc, yc = z_tr[np.sort(rows)], y_tr[np.sort(rows)]
+
+    def cost(x: np.ndarray, z, y) -> np.ndarray:
+        with torch.no_grad():
+            pred = batched_forward_standard(net, torch.as_tensor(x, dtype=torch.float32), z)
+            return torch.sqrt(((pred - y[None]) ** 2).mean(dim=(1, 2))).double().numpy()
+
+    x = initial_swarm(start, cfg.particles, rng, free, lo, hi, cfg.spread)
+    v = np.zeros_like(x)
+    pcost = cost(x, zc, yc)
+    pbest = x.copy()
+    g = int(np.argmin(pcost))
+    gbest, gcost = pbest[g].copy(), float(pcost[g])
+    best_val = float(cost(gbest[None], z_va, y_va)[0])
+    best_vec, best_it, history = gbest.copy(), 0, [gcost]
+    for it in range(1, cfg.iterations + 1):
+        x, v = pso_update(x, v, pbest, gbest, rng, free, lo, hi,
+                          inertia=PSO_INERTIA, c1=PSO_C1, c2=PSO_C2)
+        c = cost(x, zc, yc)
+        better = c < pcost
+        pbest[better], pcost[better] = x[better], c[better]
+        g = int(np.argmin(pcost))
+        if pcost[g] < gcost:
+            gbest, gcost = pbest[g].copy(), float(pcost[g])
+            val = float(cost(gbest[None], z_va, y_va)[0])
+            if val < best_val:
+                best_val, best_vec, best_it = val, gbest.copy(), it
+        history.append(gcost)
+        if progress is not None:
+            progress.update(it, f"cost {gcost:.4g}, val {best_val:.4g}")
+        if it - best_it >= cfg.patience:
+            break
+    torch.nn.utils.vector_to_parameters(torch.as_tensor(best_vec, dtype=torch.float32),
+                                        net.parameters())
+    return {"iterations_run": len(history) - 1, "best_iteration": best_it,
+            "best_val_rms_standard": best_val, "inertia": PSO_INERTIA, "c1": PSO_C1,
+            "c2": PSO_C2, "dimensions": int(d),
+            "cost_history": [round(h, 6) for h in history[:: max(1, len(history) // 50)]]}
+
+
+def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int = 0,
+              features: FeatureConfig | None = None, split: SplitConfig | None = None,
+              hidden=(16, 8), adamw: AdamWConfig | None = None, pso: PSOConfig | None = None,
+              progress: bool = False, threads: int = 1) -> PilotNet:
+    """Train a pilot-compensation net on `flights` (NetFlight list); returns it with its
+    model card (`net.card`: features, windows, flights and their split, metrics on the
+    held-out test blocks for the net, the ARX baseline and persistence, versions)."""
+    if target not in OUTPUTS:
+        raise ValueError(f"target must be one of {tuple(OUTPUTS)}, got {target!r}")
+    if trainer not in ("adamw", "pso"):
+        raise ValueError(f"trainer must be 'adamw' or 'pso', got {trainer!r}")
+    if not flights:
+        raise ValueError("train_net needs at least one flight")
+    sources = {f.input_source for f in flights}
+    if len(sources) > 1:
+        raise ValueError(f"flights mix pilot-input sources {sorted(sources)}: "
+                         + ", ".join(f"{f.source}: {f.input_source}" for f in flights))
+    rates = [f.rate_hz for f in flights]
+    if max(rates) > 1.1 * min(rates):
+        raise ValueError(f"flights sampled at different rates {[round(r, 3) for r in rates]} Hz")
+    features = features or FeatureConfig(rate_lag_samples=DEFAULT_RATE_LAG[target])
+    split = split or SplitConfig()
+    t0 = time.perf_counter()
+    old_threads = torch.get_num_threads()
+    torch.set_num_threads(threads)
+    try:
+        rng = np.random.default_rng(seed)
+        torch.manual_seed(seed)
+        gen = torch.Generator().manual_seed(seed)
+        ds = build_dataset(flights, target, features, split, rng)
+        tr, va = ds.labels == TRAIN, ds.labels == VAL
+        if tr.sum() < 10 * ds.x.shape[1] or va.sum() < 10:
+            raise ValueError(f"too little data: {int(tr.sum())} training and {int(va.sum())} "
+                             f"validation rows for {ds.x.shape[1]} features (fly longer or use "
+                             "smaller blocks)")
+        net = PilotNet(ds.x.shape[1], ds.y.shape[1], hidden)
+        net.set_scaling(ds.x[tr], ds.y[tr])
+        z = net.standardise(ds.x)
+        ystd = torch.as_tensor((ds.y - net.y_mean.numpy()) / net.y_std.numpy(), dtype=torch.float32)
+        net.set_arx(fit_arx(z[tr].double().numpy(), ystd[tr].double().numpy()))
+        bar = None
+        if progress:
+            from airwake.progress import Progress
+
+            total = (adamw or AdamWConfig()).max_epochs if trainer == "adamw" else \
+                (pso or PSOConfig()).iterations
+            bar = Progress(f"nets train ({trainer})", total, " epochs" if trainer == "adamw"
+                           else " iterations")
+        tr_t, va_t = torch.as_tensor(tr), torch.as_tensor(va)
+        if trainer == "adamw":
+            info = train_adamw(net, z[tr_t], ystd[tr_t], z[va_t], ystd[va_t],
+                               adamw or AdamWConfig(), gen, bar)
+            settings = asdict(adamw or AdamWConfig())
+        else:
+            info = train_pso(net, z[tr_t], ystd[tr_t], z[va_t], ystd[va_t], pso or PSOConfig(),
+                             rng, bar)
+            settings = asdict(pso or PSOConfig())
+        if bar is not None:
+            bar.finish()
+        net.eval()
+        pred = net.predict_numpy(ds.x)
+        arx = net.predict_arx(ds.x)
+    finally:
+        torch.set_num_threads(old_threads)
+    metrics = score_sets(target, ds.y, ds.y_lp, pred, arx, ds.prev, ds.labels)
+    net.card = {
+        "target": target, "outputs": list(OUTPUTS[target]), "features": ds.names,
+        "feature_config": features.to_dict(), "split": asdict(split),
+        "input_source": flights[0].input_source,
+        "input_columns": list(INPUT_SOURCES[flights[0].input_source]),
+        "rate_hz": float(np.mean(rates)), "trainer": trainer, "trainer_settings": settings,
+        "training": info, "seed": int(seed), "training_flights": ds.flights, "metrics": metrics,
+        "train_seconds": round(time.perf_counter() - t0, 3), "versions": versions(),
+    }
+    return net
+
+
+def versions() -> dict:
+    import airwake
+
+    return {"airwake": airwake.__version__, "torch": torch.__version__, "numpy": np.__version__,
+            "python": platform.python_version()}
