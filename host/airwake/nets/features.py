@@ -38,6 +38,9 @@ class FeatureConfig:
         target it must be >= 1 (0 would hand the answer to the net); for the angular
         acceleration target 0 means the current rates (§4.3, eq 4.10).
     use_attitude: roll and pitch angles as inputs (gravity / tilt terms).
+    use_rate_lowpass: also the causal low-pass (eq 2.3, the inputs' sigma and length) of
+        the lagged rates: a real gyro's sample-to-sample noise (the T-REX 550 log: as
+        large as the rates themselves) otherwise enters the prediction one-to-one.
     """
 
     line_window_s: float = 0.5
@@ -48,6 +51,7 @@ class FeatureConfig:
     use_lowpass: bool = True
     use_std: bool = True
     use_attitude: bool = True
+    use_rate_lowpass: bool = True
 
     def __post_init__(self) -> None:
         for name in ("line_window_s", "lowpass_sigma_s", "lowpass_length_s", "std_window_s"):
@@ -161,7 +165,8 @@ def build_features(inputs, roll, pitch, rates, rate_hz: float, config: FeatureCo
     inputs (T, 4) pilot inputs in INPUT_CHANNELS order; roll, pitch (T,) rad; rates
     (T, 3) rad/s (p, q, r). Returns (X (T, F), names (F,)). Per input channel: line
     slope, intercept, error (eqs 2.1-2.2), then optionally the causal low-pass (eq 2.3)
-    and the local std; then roll, pitch; then p, q, r delayed by rate_lag_samples.
+    and the local std; then roll, pitch; then p, q, r delayed by rate_lag_samples and
+    optionally their causal low-pass. The lagged rates are the last three columns.
     """
     inputs = np.asarray(inputs, dtype=float)
     cols, names = [], []
@@ -182,6 +187,10 @@ def build_features(inputs, roll, pitch, rates, rate_hz: float, config: FeatureCo
         cols += [np.asarray(roll, float), np.asarray(pitch, float)]
         names += ["roll", "pitch"]
     prev = lagged(rates, int(config.rate_lag_samples))
+    if config.use_rate_lowpass:
+        lp = gaussian_lowpass(prev, rate_hz, config.lowpass_sigma_s, config.lowpass_length_s)
+        cols += list(lp.T)
+        names += [f"{r}_lag{config.rate_lag_samples}_lowpass" for r in RATE_NAMES]
     cols += list(prev.T)
     names += [f"{r}_lag{config.rate_lag_samples}" for r in RATE_NAMES]
     return np.column_stack(cols), names

@@ -8,9 +8,12 @@ The network is the linear ARX map plus one small tanh MLP per output axis (the r
 trained one network per channel, §2.2.2), all on standardised features:
 
     z = (x - x_mean) / x_std
-    y_k = y_mean_k + y_std_k * (A_k z + b_k + MLP_k(z))
+    y_k = x_base(k) + y_mean_k + y_std_k * (A_k z + b_k + MLP_k(z))
 
-A (the skip) starts at the least-squares ARX solution and every MLP's last layer at
+x_base(k) is the feature in `base_columns[k]` (for the rate target: the fed-back previous
+rate of that axis) or 0: the net then learns the change since then, and where it has to
+extrapolate it falls back towards persistence rather than towards an offset. A (the
+skip) starts at the ridge-regularised least-squares ARX solution and every MLP's last layer at
 zero, so training starts from the linear baseline and early stopping on validation can
 only keep an MLP that beats it there. The .pt file is a dict of tensors and strings
 (format, card JSON, state_dict) read with `torch.load(weights_only=True)`.
@@ -38,9 +41,15 @@ class PilotNet(nn.Module):
     """ARX skip + per-axis MLPs on standardised features; see the module docstring."""
 
     def __init__(self, n_features: int, n_outputs: int, hidden=(16, 8),
-                 card: dict | None = None) -> None:
+                 base_columns=None, card: dict | None = None) -> None:
         super().__init__()
         self.card = dict(card or {})  # the model card (train_net / load_net fill it)
+        if base_columns is not None:
+            base_columns = tuple(int(c) for c in base_columns)
+            if len(base_columns) != n_outputs or not all(0 <= c < n_features for c in base_columns):
+                raise ValueError(f"PilotNet base_columns {base_columns}: need {n_outputs} "
+                                 f"feature indexes in [0, {n_features})")
+        self.base_columns = base_columns
         if n_features < 1 or n_outputs < 1:
             raise ValueError(
                 f"PilotNet needs >= 1 feature and output, got {n_features}, {n_outputs}")
@@ -56,13 +65,26 @@ class PilotNet(nn.Module):
         self.skip = nn.Linear(n_features, n_outputs)
         self.mlps = nn.ModuleList(_mlp(n_features, self.hidden) for _ in range(n_outputs))
 
+    def base(self, x) -> torch.Tensor:
+        """(N, K) x_base: the base columns of the features, or zeros."""
+        x = torch.as_tensor(x, dtype=torch.float64)
+        if self.base_columns is None:
+            return torch.zeros(x.shape[0], self.n_outputs, dtype=torch.float64)
+        return x[:, list(self.base_columns)]
+
     def set_scaling(self, x: np.ndarray, y: np.ndarray) -> None:
         """Standardise with the training rows' mean and std (a constant column: std 1)."""
+        y = y - self.base(x).numpy()
         xs, ys = x.std(axis=0), y.std(axis=0)
         self.x_mean.copy_(torch.as_tensor(x.mean(axis=0)))
         self.x_std.copy_(torch.as_tensor(np.where(xs > 1e-12, xs, 1.0)))
         self.y_mean.copy_(torch.as_tensor(y.mean(axis=0)))
         self.y_std.copy_(torch.as_tensor(np.where(ys > 1e-12, ys, 1.0)))
+
+    def standardise_target(self, x, y) -> torch.Tensor:
+        """Targets (N, K) in SI -> what forward_standard predicts."""
+        r = torch.as_tensor(y, dtype=torch.float64) - self.base(x)
+        return ((r - self.y_mean) / self.y_std).to(torch.float32)
 
     def standardise(self, x) -> torch.Tensor:
         x = torch.as_tensor(x, dtype=torch.float64)
@@ -74,7 +96,7 @@ class PilotNet(nn.Module):
 
     def forward(self, x) -> torch.Tensor:
         out = self.forward_standard(self.standardise(x)).to(torch.float64)
-        return out * self.y_std + self.y_mean
+        return out * self.y_std + self.y_mean + self.base(x)
 
     @torch.no_grad()
     def predict_numpy(self, x: np.ndarray) -> np.ndarray:
@@ -96,7 +118,7 @@ class PilotNet(nn.Module):
     def predict_arx(self, x: np.ndarray) -> np.ndarray:
         z = (torch.as_tensor(x, dtype=torch.float64) - self.x_mean) / self.x_std
         out = z @ self.arx_weight[:, :-1].T + self.arx_weight[:, -1]
-        return (out * self.y_std + self.y_mean).numpy()
+        return (out * self.y_std + self.y_mean + self.base(x)).numpy()
 
 
 def _mlp(n_in: int, hidden) -> nn.Sequential:
@@ -108,11 +130,15 @@ def _mlp(n_in: int, hidden) -> nn.Sequential:
     return nn.Sequential(*layers)
 
 
-def fit_arx(z: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Least squares y ~ [z, 1] W^T on standardised data: (N, F), (N, K) -> W (K, F+1)."""
+def fit_arx(z: np.ndarray, y: np.ndarray, ridge: float = 1e-3) -> np.ndarray:
+    """Least squares y ~ [z, 1] W^T on standardised data, (N, F), (N, K) -> W (K, F+1),
+    with a ridge penalty ridge * N * |A|^2 on the weights (not the bias): the line-fit
+    intercepts and the low-passed inputs are nearly collinear, and unpenalised their
+    large opposite coefficients extrapolate badly."""
     a = np.column_stack([z, np.ones(len(z))])
-    w, *_ = np.linalg.lstsq(a, y, rcond=None)
-    return w.T
+    reg = ridge * len(z) * np.eye(a.shape[1])
+    reg[-1, -1] = 0.0
+    return np.linalg.solve(a.T @ a + reg, a.T @ y).T
 
 
 def save_net(net: PilotNet, path) -> Path:
@@ -123,7 +149,8 @@ def save_net(net: PilotNet, path) -> Path:
     if not p.parent.is_dir():
         raise NetFileError(f"{p}: folder {p.parent} does not exist")
     card = {**net.card, "format": FORMAT, "n_features": net.n_features,
-            "n_outputs": net.n_outputs, "hidden": list(net.hidden)}
+            "n_outputs": net.n_outputs, "hidden": list(net.hidden),
+            "base_columns": None if net.base_columns is None else list(net.base_columns)}
     blob = {"format": FORMAT, "card_json": json.dumps(card, sort_keys=True),
             "state_dict": {k: v.detach().clone() for k, v in net.state_dict().items()}}
     tmp = p.with_name(f".{p.name}.tmp")
@@ -146,7 +173,8 @@ def load_net(path) -> PilotNet:
         fmt = blob.get("format") if isinstance(blob, dict) else type(blob).__name__
         raise NetFileError(f"{p}: format {fmt!r}, expected {FORMAT!r}")
     card = json.loads(blob["card_json"])
-    net = PilotNet(card["n_features"], card["n_outputs"], tuple(card["hidden"]), card)
+    net = PilotNet(card["n_features"], card["n_outputs"], tuple(card["hidden"]),
+                   card.get("base_columns"), card)
     try:
         net.load_state_dict(blob["state_dict"], strict=True)
     except RuntimeError as exc:

@@ -266,10 +266,12 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
             raise ValueError(f"too little data: {int(tr.sum())} training and {int(va.sum())} "
                              f"validation rows for {ds.x.shape[1]} features (fly longer or use "
                              "smaller blocks)")
-        net = PilotNet(ds.x.shape[1], ds.y.shape[1], hidden)
+        # the rate target learns the change since the fed-back rates (the last 3 features)
+        base = None if target == "accel" else [ds.x.shape[1] - 3 + k for k in range(3)]
+        net = PilotNet(ds.x.shape[1], ds.y.shape[1], hidden, base)
         net.set_scaling(ds.x[tr], ds.y[tr])
         z = net.standardise(ds.x)
-        ystd = torch.as_tensor((ds.y - net.y_mean.numpy()) / net.y_std.numpy(), dtype=torch.float32)
+        ystd = net.standardise_target(ds.x, ds.y)
         net.set_arx(fit_arx(z[tr].double().numpy(), ystd[tr].double().numpy()))
         bar = None
         if progress:
