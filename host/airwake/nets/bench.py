@@ -1,0 +1,49 @@
+"""`airwake bench` section "nets": the rate network on 60 s of a 150 Hz truth-world
+still-air flight (seed 7), one torch thread.
+
+Keys: nets_train_s (features, split, ARX and AdamW training to early stop; target
+< 60 s), nets_infer_realtime_factor (flight seconds per second of `predict`: features +
+forward pass over the whole flight; target >= 100), nets_test_rms_deg_s_{p,q,r} (held-out
+blocks of that flight, next to Table 2.2's best 2.13 deg/s) and nets_epochs.
+"""
+
+from __future__ import annotations
+
+import time
+
+SECTION = "nets"
+
+
+def run(quick: bool) -> dict:
+    import torch
+
+    from airwake.nets import net_flight_from_df, predict, train_net
+    from hil_sim.world.run import run_scenario
+    from hil_sim.world.scenario import load_scenario
+
+    duration_s = 20.0 if quick else 60.0
+    built = run_scenario(load_scenario("still_air_calibration"), seed=7,
+                         duration_s=duration_s).flight_table()
+    flight = net_flight_from_df(built.df, "bench still_air_calibration seed 7")
+    old = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        t0 = time.perf_counter()
+        net = train_net([flight], target="rates", seed=0)
+        train_s = time.perf_counter() - t0
+        predict(net, flight)  # warm-up
+        reps = 3
+        t0 = time.perf_counter()
+        for _ in range(reps):
+            predict(net, flight)
+        infer_s = (time.perf_counter() - t0) / reps
+    finally:
+        torch.set_num_threads(old)
+    span = float(flight.t_s[-1] - flight.t_s[0])
+    test = net.card["metrics"]["test"]["measured"]["net"]
+    out = {"nets_train_s": round(train_s, 3),
+           "nets_infer_realtime_factor": round(span / infer_s, 1),
+           "nets_train_rows": int(len(flight)),
+           "nets_epochs": int(net.card["training"]["epochs_run"])}
+    out.update({f"nets_test_rms_deg_s_{a}": round(test[a]["rms"], 4) for a in "pqr"})
+    return out

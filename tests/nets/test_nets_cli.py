@@ -1,0 +1,47 @@
+"""`airwake nets train|evaluate` end to end, and the one-line errors users see."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from airwake.cli import main
+
+
+@pytest.fixture(scope="module")
+def flight(truth_world_flight):
+    return truth_world_flight("still_air_calibration", 5, 60.0)
+
+
+def test_train_then_evaluate_writes_net_report_and_predictions(flight, tmp_path, capsys):
+    net = tmp_path / "rates.pt"
+    assert main(["nets", "train", str(flight), "--out", str(net), "--seed", "1", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "held-out test blocks" in out and "persistence" in out and net.is_file()
+    pred = tmp_path / "pred.parquet"
+    assert main(["nets", "evaluate", str(net), str(flight), "--json", "--out", str(pred)]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["unit"] == "deg/s" and report["flights"][0]["scored"].startswith("test blocks")
+    rms = report["overall"]["measured"]["net"]
+    assert set(rms) == {"p", "q", "r"} and all(np.isfinite(v["rms"]) for v in rms.values())
+    df = pd.read_parquet(pred)
+    assert list(df.columns[:4]) == ["t_s", "p_pred_rad_s", "q_pred_rad_s", "r_pred_rad_s"]
+    assert len(df) == len(pd.read_parquet(flight))
+
+
+def test_missing_column_is_one_line_naming_file_and_column(flight, tmp_path, capsys):
+    df = pd.read_parquet(flight).drop(columns=["roll_rad"])
+    bad = tmp_path / "no_roll.csv"
+    df.to_csv(bad, index=False)
+    assert main(["nets", "train", str(bad), "--out", str(tmp_path / "x.pt"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "no_roll.csv" in err and "'roll_rad'" in err
+
+
+def test_bad_out_path_and_bad_net_file_are_user_errors(flight, tmp_path, capsys):
+    assert main(["nets", "train", str(flight), "--out", str(tmp_path / "no" / "x.pt")]) == 2
+    assert "--out" in capsys.readouterr().err
+    junk = tmp_path / "junk.pt"
+    junk.write_bytes(b"not a torch file")
+    assert main(["nets", "evaluate", str(junk), str(flight)]) == 2
+    assert "junk.pt: not a network file" in capsys.readouterr().err
