@@ -95,6 +95,15 @@ def test_evaluate_scores_only_the_test_blocks_of_a_training_flight(rate_net, fli
     card = rate_net.card["metrics"]["test"]["measured"]["net"]
     for axis in "pqr":
         assert f["measured"]["net"][axis]["rms"] == pytest.approx(card[axis]["rms"])
+    # a simulated flight scores itself against its noise-free truth too; a real one cannot
+    assert set(f["truth"]) == {"net", "arx", "persistence"}
+    from airwake.nets.data import read_table
+
+    df = read_table(flight_path)
+    no_truth = df.drop(columns=[c for c in df.columns if c.startswith("truth_")])
+    from airwake.nets import net_flight_from_df
+
+    assert "truth" not in evaluate_net(rate_net, [net_flight_from_df(no_truth)])["overall"]
 
 
 def test_a_net_refuses_a_flight_at_another_rate(rate_net, flight_path):

@@ -118,8 +118,8 @@ def format_scores(scores: dict, unit: str, title: str) -> str:
     axes = list(next(iter(scores["measured"].values())).keys())
     head = f"  {'target':<10}{'model':<13}" + "".join(f"{a:>18}" for a in axes)
     lines.append(head)
-    for ref in ("measured", "lowpass"):
-        for model, per in scores[ref].items():
+    for ref in ("measured", "lowpass", "truth"):
+        for model, per in scores.get(ref, {}).items():
             cells = "".join(f"{per[a]['rms']:>9.3f} /{per[a]['mae']:>7.3f}" for a in axes)
             lines.append(f"  {ref:<10}{model:<13}{cells}")
     return "\n".join(lines)

@@ -57,6 +57,8 @@ class NetFlight:
     accel_rad_s2: np.ndarray | None  # (T, 2) pdot, qdot where the target needs it
     rate_hz: float
     fingerprint: dict
+    # the simulator's noise-free target (truth_<column>), only for scoring: None elsewhere
+    truth: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.t_s.size)
@@ -77,7 +79,8 @@ class NetFlight:
             self.source, self.t_s[sl], self.inputs[sl], self.input_source, self.roll_rad[sl],
             self.pitch_rad[sl], self.rates_rad_s[sl],
             None if self.accel_rad_s2 is None else self.accel_rad_s2[sl], self.rate_hz,
-            {**self.fingerprint, "crop_s": [from_s, to_s]})
+            {**self.fingerprint, "crop_s": [from_s, to_s]},
+            None if self.truth is None else self.truth[sl])
 
 
 def read_table(path) -> pd.DataFrame:
@@ -155,12 +158,17 @@ def net_flight_from_df(df: pd.DataFrame, source: str = "<table>", target: str = 
             f"({t[i]:g} -> {t[i + 1]:g}); the features assume a uniform rate (~{rate_hz:.4g} Hz)")
     accel = sub[list(ACCEL_COLUMNS)].to_numpy(float) if target == "accel" else None
     fp = flight_fingerprint(df)
+    truth_cols = [f"truth_{c}" for c in (ACCEL_COLUMNS if target == "accel" else RATE_COLUMNS)]
+    truth = None
+    if all(c in df.columns for c in truth_cols):
+        truth = df[truth_cols].to_numpy(float)
+        truth = truth if np.isfinite(truth).all() else None
     return NetFlight(
         source=source, t_s=t, inputs=sub[list(INPUT_SOURCES[src])].to_numpy(float),
         input_source=src, roll_rad=sub["roll_rad"].to_numpy(float),
         pitch_rad=sub["pitch_rad"].to_numpy(float),
         rates_rad_s=sub[list(RATE_COLUMNS)].to_numpy(float), accel_rad_s2=accel,
-        rate_hz=rate_hz, fingerprint=json.loads(json.dumps(fp)))
+        rate_hz=rate_hz, fingerprint=json.loads(json.dumps(fp)), truth=truth)
 
 
 def load_net_flight(path, target: str = "rates", input_source: str | None = None) -> NetFlight:

@@ -98,18 +98,19 @@ def held_out_rows(net: PilotNet, flight: NetFlight) -> tuple[np.ndarray, str]:
 
 
 def evaluate_net(net: PilotNet, flights) -> dict:
-    """Scores per flight and over all flights' held-out rows (see held_out_rows)."""
+    """Scores per flight and over all flights' held-out rows (see held_out_rows); a
+    simulated flight with truth_* columns of the target is also scored against them."""
     target = net.card["target"]
     per_flight, parts = [], []
     for flight in flights:
         x, y, prev, pred, arx, _ = _predict_flight(net, flight)
         rows, what = held_out_rows(net, flight)
         y_lp = smoothed_target(y, flight.rate_hz)
-        scores = score_rows(target, y, y_lp, pred, arx, prev, rows)
+        scores = score_rows(target, y, y_lp, pred, arx, prev, rows, flight.truth)
         per_flight.append({"path": flight.source, "scored": what, **scores})
-        parts.append((y[rows], y_lp[rows], pred[rows], arx[rows],
-                      None if prev is None else prev[rows]))
-    cat = [np.concatenate([p[i] for p in parts]) if parts[0][i] is not None else None
-           for i in range(5)]
-    overall = score_rows(target, *cat, np.ones(len(cat[0]), bool))
+        parts.append([None if a is None else a[rows]
+                      for a in (y, y_lp, pred, arx, prev, flight.truth)])
+    cat = [np.concatenate([p[i] for p in parts]) if all(p[i] is not None for p in parts)
+           else None for i in range(6)]
+    overall = score_rows(target, *cat[:5], np.ones(len(cat[0]), bool), cat[5])
     return {"target": target, "unit": UNITS[target], "flights": per_flight, "overall": overall}

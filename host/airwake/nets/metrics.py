@@ -34,13 +34,15 @@ def per_axis(target: str, truth: np.ndarray, pred: np.ndarray) -> dict:
             for k, a in enumerate(AXES[target])}
 
 
-def score_rows(target: str, y, y_lp, pred, arx, prev, rows) -> dict:
-    """Every model's per-axis scores on `rows` (bool mask) against y and y_lp."""
+def score_rows(target: str, y, y_lp, pred, arx, prev, rows, truth=None) -> dict:
+    """Every model's per-axis scores on `rows` (bool mask) against y, y_lp and, where
+    given (simulated flights scoring themselves), the noise-free truth."""
     models = {"net": pred, "arx": arx}
     if prev is not None:
         models["persistence"] = prev
     out = {"rows": int(rows.sum())}
-    for ref_name, ref in (("measured", y), ("lowpass", y_lp)):
+    refs = [("measured", y), ("lowpass", y_lp)] + ([("truth", truth)] if truth is not None else [])
+    for ref_name, ref in refs:
         out[ref_name] = {m: per_axis(target, ref[rows], p[rows]) for m, p in models.items()}
     return out
 
