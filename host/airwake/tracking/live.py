@@ -34,7 +34,7 @@ import numpy as np
 
 from airwake.tracking.attitude import initial_attitude, rotation_to_quat_wxyz
 from airwake.tracking.errors import TrackingError
-from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate_one
+from airwake.tracking.losa import SENSOR_FLAG_VALID, SlotResolver, triangulate_one
 from airwake.tracking.marker import LED_DIRECTIONS_BODY, LED_RADIUS_M, NO_LED
 from airwake.tracking.pose_ekf import P_, TH, V_, PoseEkf, PoseEkfConfig
 
@@ -91,6 +91,7 @@ class LiveTracker:
         self.recent: deque = deque()  # (t_s, led position, lever arm) before the start
         self.newest_s = -math.inf
         self.triangulated = 0
+        self.slots = SlotResolver()
         self.restarts = 0
         self._pending: list = []  # (t_s, LED position, LED index) since the last IMU sample
         self._queue: list = []
@@ -161,8 +162,16 @@ class LiveTracker:
         led = self.active_led
         if led >= len(LED_DIRECTIONS_BODY):
             return  # no LED lit: whatever LOSA sees is not the marker
-        p = triangulate_one(msg.peak_px, msg.slot,
-                            [(f & SENSOR_FLAG_VALID) != 0 for f in msg.sensor_flags])
+        valid = [(f & SENSOR_FLAG_VALID) != 0 for f in msg.sensor_flags]
+        if self.ekf is None:
+            p = triangulate_one(msg.peak_px, msg.slot, valid)
+        else:  # re-acquisition: the slots the prediction finds likeliest (SlotResolver)
+            arm = LED_RADIUS_M * LED_DIRECTIONS_BODY[led]
+            choose = ((lambda c: self.ekf.candidate_nis(t_s, c, arm))
+                      if self.ekf.in_dropout(t_s) else None)
+            p = self.slots.position(msg.peak_px, msg.slot, valid, choose)
+            if p is not None:
+                p = tuple(float(v) for v in p)
         if p is None:
             return
         self.triangulated += 1
@@ -207,6 +216,7 @@ class LiveTracker:
         self.calibration = None
         self._pending = []
         self.recent.clear()
+        self.slots = SlotResolver()
         self.restarts += 1
 
     # -- output --------------------------------------------------------------------
@@ -244,14 +254,16 @@ class LiveTracker:
         e = self.ekf
         if e is None:
             return {"started": False, "calibrated": self.calibration is not None,
-                    "triangulated": self.triangulated, "restarts": self.restarts}
+                    "triangulated": self.triangulated, "restarts": self.restarts,
+                    "slot_corrections": self.slots.resolved}
         c = e.counters
         return {"started": True, "valid": self.valid(), "t_s": round(e.t_s, 3),
                 "pos_tracker_m": [round(v, 4) for v in e.pos.tolist()],
                 "pos_sigma_m": [round(math.sqrt(max(v, 0.0)), 4)
                                 for v in np.diag(e.P)[P_].tolist()],
                 "accepted": c.accepted, "gated": c.gated, "reacquired": c.reacquired,
-                "late": c.late, "triangulated": self.triangulated, "restarts": self.restarts}
+                "late": c.late, "triangulated": self.triangulated, "restarts": self.restarts,
+                "slot_corrections": self.slots.resolved}
 
 
 __all__ = ["LiveTracker", "POSE_SCHEMA"]

@@ -178,3 +178,64 @@ def triangulate(peak_px: np.ndarray, slot: np.ndarray, valid: np.ndarray,
         pos[ok] = sol
         ok[ok] = good
     return pos.reshape(shape + (3,)), ok.reshape(shape)
+
+
+class SlotResolver:
+    """Which slot each module's peak really came through (§3.3.1.5).
+
+    The LOSA firmware unwraps each sensor's peak across its three slots from the central
+    slot it assumes at start and after a loss (firmware/boards/losa/slots.h). A marker
+    re-acquired off-centre (more than ~18 deg from a module's axis) is then unwrapped
+    from the wrong slot, and the triangulated position is off by metres while every
+    plane is self-consistent: the two modules of a pair shifted by the same slot keep
+    their disparity, so nothing in one frame can tell. The tracking filter can: at a
+    re-acquisition (`choose` given) every per-module slot correction that keeps the slots
+    in -1..+1 is triangulated and the one the filter's prediction finds most likely is
+    kept; the corrections then apply to every later frame (the firmware's own slot
+    changes are relative) until the next re-acquisition re-evaluates them."""
+
+    def __init__(self, geometry: LosaGeometry = DEFAULT_GEOMETRY) -> None:
+        self.geometry = geometry
+        self.shift = (0, 0, 0, 0)
+        self.resolved = 0  # re-acquisitions that changed the corrections
+
+    def candidates(self, peak_px, slot, valid) -> tuple[np.ndarray, np.ndarray]:
+        """(corrections (K, 4) int, positions (K, 3)) of every correction combination
+        giving a well-conditioned point in front of the tracker."""
+        import itertools
+
+        choices = []
+        for m in range(N_MODULES):
+            s = int(slot[m])
+            choices.append(range(-1 - s, 2 - s) if valid[m] else (0,))
+        shifts = np.array(list(itertools.product(*choices)), dtype=np.int64)
+        k = shifts.shape[0]
+        # another slot moves the unwrapped peak by a whole period: the same array pixel
+        pos, ok = triangulate(np.asarray(peak_px, float) + WIRE_PIXELS * shifts,
+                              np.asarray(slot, dtype=np.int64) + shifts,
+                              np.broadcast_to(np.asarray(valid, bool), (k, N_MODULES)),
+                              self.geometry)
+        keep = ok & (pos[:, 2] > 0.0)
+        return shifts[keep], pos[keep]
+
+    def position(self, peak_px, slot, valid, choose=None):
+        """The frame's position (3,) with the kept corrections, or None; `choose` (a
+        function of candidate positions (K, 3) -> cost (K,)) re-evaluates them first."""
+        if choose is not None:
+            shifts, pos = self.candidates(peak_px, slot, valid)
+            if shifts.shape[0] == 0:
+                return None
+            best = int(np.argmin(choose(pos)))
+            new = tuple(int(v) for v in shifts[best])
+            if new != self.shift:
+                self.shift = new
+                self.resolved += 1
+            return pos[best]
+        if not any(self.shift):
+            p = triangulate_one(peak_px, slot, valid, self.geometry)
+        else:
+            p = triangulate_one([float(a) + WIRE_PIXELS * b for a, b in zip(peak_px, self.shift,
+                                                                            strict=True)],
+                                [int(a) + b for a, b in zip(slot, self.shift, strict=True)],
+                                valid, self.geometry)
+        return None if p is None else np.asarray(p, dtype=float)

@@ -16,7 +16,7 @@ import numpy as np
 
 from airwake.tracking.attitude import initial_attitude, rotation_to_quat_wxyz
 from airwake.tracking.errors import TrackingError
-from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate
+from airwake.tracking.losa import SENSOR_FLAG_VALID, SlotResolver, triangulate
 from airwake.tracking.marker import led_lever_arms_body_m
 from airwake.tracking.pose_ekf import PoseEkf, PoseEkfConfig, PoseTrack, run_pose_ekf
 from airwake.tracking.smoother import rts_smooth
@@ -71,5 +71,7 @@ def track_streams(streams: Mapping, config: PoseEkfConfig | None = None,
     sel = peaks.t_s > t0
     track = run_pose_ekf(ekf, imu.t_s[i0:], imu.data["gyro_frd_rad_s"][i0:],
                          imu.data["accel_frd_m_s2"][i0:], peaks.t_s[sel], pos[sel], ok[sel],
-                         arms[sel])
+                         arms[sel], losa_peaks=(peaks.data["peak_px"][sel],
+                                                peaks.data["slot"][sel], valid[sel]),
+                         resolver=SlotResolver())
     return rts_smooth(ekf) if smooth else track

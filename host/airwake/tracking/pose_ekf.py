@@ -312,13 +312,13 @@ class PoseEkf:
 
     # -- update (eq 3.10, 3.14) ---------------------------------------------
 
-    def update_position(self, t_s: float, pos_ref_m, R=None, lever_arm_body_m=None
-                        ) -> UpdateResult:
-        """Fuse one LOSA-triangulated position (3,) of the point `lever_arm_body_m` (3,)
-        from the marker centre (the lit LED; default the centre) taken at host time
-        `t_s`; `R` (3, 3) its covariance (default diag(`position_sigma_m`)^2)."""
-        c = self.config
-        z = np.asarray(pos_ref_m, dtype=float)
+    def in_dropout(self, t_s: float) -> bool:
+        """No LOSA update accepted for `dropout_s` before t_s: the next one re-acquires."""
+        return t_s - self._last_accept_s > self.config.dropout_s
+
+    def _measurement(self, t_s: float, lever_arm_body_m):
+        """(h, H, lag) of a LOSA position taken at t_s (predicting up to it when it is
+        newer than the last IMU sample)."""
         if t_s > self.t_s:
             # LOSA frame newer than the last IMU sample: prediction only up to it.
             if self._last_imu is not None:
@@ -326,11 +326,6 @@ class PoseEkf:
             else:
                 self.t_s = float(t_s)
         lag = self.t_s - t_s
-        in_dropout = t_s - self._last_accept_s > c.dropout_s
-        gate = self._gate * (c.reacquire_gate_scale if in_dropout else 1.0)
-        if lag > c.max_lag_s:
-            self.counters.late += 1
-            return UpdateResult(False, float("nan"), gate, "late")
         r = quat_to_matrix(self.quat)
         H = self._H
         H[:, V_] = -lag * _I3
@@ -341,6 +336,31 @@ class PoseEkf:
             arm = np.asarray(lever_arm_body_m, dtype=float)
             h = self.pos - lag * self.vel + r @ arm
             H[:, TH] = -(r @ skew(arm))
+        return h, H, lag
+
+    def candidate_nis(self, t_s: float, pos_ref_m, lever_arm_body_m=None, R=None
+                      ) -> np.ndarray:
+        """NIS (K,) of K candidate positions (K, 3) of one frame against the prediction
+        (the LOSA slot re-acquisition's choice, `losa.SlotResolver`); nothing is fused."""
+        h, H, _ = self._measurement(t_s, lever_arm_body_m)
+        Rm = self._r_default if R is None else np.asarray(R, dtype=float)
+        S = H @ self.kf.P @ H.T + Rm
+        y = np.atleast_2d(np.asarray(pos_ref_m, dtype=float)) - h
+        return np.einsum("ki,ki->k", y, np.linalg.solve(S, y.T).T)
+
+    def update_position(self, t_s: float, pos_ref_m, R=None, lever_arm_body_m=None
+                        ) -> UpdateResult:
+        """Fuse one LOSA-triangulated position (3,) of the point `lever_arm_body_m` (3,)
+        from the marker centre (the lit LED; default the centre) taken at host time
+        `t_s`; `R` (3, 3) its covariance (default diag(`position_sigma_m`)^2)."""
+        c = self.config
+        z = np.asarray(pos_ref_m, dtype=float)
+        in_dropout = self.in_dropout(t_s)
+        gate = self._gate * (c.reacquire_gate_scale if in_dropout else 1.0)
+        if self.t_s - t_s > c.max_lag_s:
+            self.counters.late += 1
+            return UpdateResult(False, float("nan"), gate, "late")
+        h, H, lag = self._measurement(t_s, lever_arm_body_m)
         Rm = self._r_default if R is None else np.asarray(R, dtype=float)
         y = z - h
         P = self.kf.P
@@ -393,13 +413,17 @@ class PoseEkf:
 
 
 def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_pos_ref_m,
-                 losa_ok=None, lever_arm_body_m=None, R=None) -> PoseTrack:
+                 losa_ok=None, lever_arm_body_m=None, R=None, losa_peaks=None,
+                 resolver=None) -> PoseTrack:
     """Run `ekf` over time-ordered streams on one host timeline.
 
     IMU: `imu_t_s` (N,), `gyro_rad_s`, `accel_m_s2` (N, 3). LOSA: `losa_t_s` (M,),
     `losa_pos_ref_m` (M, 3) triangulated positions, `losa_ok` (M,) (frames not ok are
     missing: prediction only), `lever_arm_body_m` (M, 3) or (3,) or None. At equal
     times the IMU sample goes first. Returns the state after each IMU sample.
+    `losa_peaks` (peak_px, slot, valid), each (M, 4), with a `losa.SlotResolver`: the
+    slots are re-resolved against the prediction at every re-acquisition (the frames'
+    positions are then triangulated again with the kept corrections).
     """
     imu_t = np.asarray(imu_t_s, dtype=float)
     gyro = np.asarray(gyro_rad_s, dtype=float)
@@ -428,9 +452,18 @@ def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_p
     for i in range(n + 1):
         while j < m and after[j] == i:
             if ok[j]:
-                res = ekf.update_position(losa_t[j], losa_pos[j], R,
-                                          None if arms is None else arms[j])
-                outcome[j], nis[j] = res.outcome, res.nis
+                arm = None if arms is None else arms[j]
+                z = losa_pos[j]
+                if resolver is not None:
+                    pk = (losa_peaks[0][j], losa_peaks[1][j], losa_peaks[2][j])
+                    if ekf.in_dropout(losa_t[j]):
+                        z = resolver.position(*pk, choose=lambda c, t=losa_t[j], a=arm:
+                                              ekf.candidate_nis(t, c, a, R))
+                    elif any(resolver.shift):
+                        z = resolver.position(*pk)
+                if z is not None:
+                    res = ekf.update_position(losa_t[j], z, R, arm)
+                    outcome[j], nis[j] = res.outcome, res.nis
             j += 1
         if i == n:
             break
