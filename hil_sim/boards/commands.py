@@ -37,6 +37,13 @@ def register_run(sub) -> None:
     p.add_argument("--boards", metavar="LIST",
                    help="comma-separated boards (default: all four in a hall, rover,base "
                    "outdoors)")
+    p.add_argument("--survey", action="store_true",
+                   help="a hand-carried anemometer survey of the scenario's wind field "
+                   "instead of its flight: the LOSA tracker and the marker, the marker "
+                   "carried through fan A's jet with a Young 81000 on its serial port "
+                   "(docs/wind-map.md); --duration cuts it short")
+    p.add_argument("--dwell-s", type=float, default=4.0, metavar="S",
+                   help="with --survey: seconds at each of its 50 stations (4)")
     p.add_argument("--asan", action="store_true",
                    help="run the ASan/UBSan builds (build/native-asan; slower)")
     p.add_argument("--json", action="store_true", help="print the run summary as JSON")
@@ -61,7 +68,7 @@ def register_run(sub) -> None:
 def _run(args: argparse.Namespace) -> int:
     from airwake.progress import Progress
 
-    from hil_sim.boards.rig import rig_for
+    from hil_sim.boards.rig import rig_for, survey_rig
     from hil_sim.boards.sil import SilError, SilRun
     from hil_sim.commands import load_scenario_from_args
 
@@ -69,13 +76,31 @@ def _run(args: argparse.Namespace) -> int:
     boards = None
     if args.boards:
         boards = tuple(b.strip() for b in args.boards.split(",") if b.strip())
-    try:
-        rig = rig_for(scenario, boards)
-    except ValueError as exc:
-        raise SilError(f"--boards {args.boards}: {exc}") from None
+    survey = None
+    if args.survey:
+        if boards is not None and set(boards) != {"losa", "marker"}:
+            raise SilError(f"--boards {args.boards}: a survey carries the marker past the "
+                           "LOSA tracker (losa,marker) and nothing else")
+        if scenario.site.type != "hall":
+            raise SilError(f"--survey: scenario {scenario.name!r} is a {scenario.site.type} "
+                           "flight; a hand-carried survey needs a hall (e.g. fans_indoor)")
+        from hil_sim.boards.rig import sil_survey_config
+        from hil_sim.world.anemometer_survey import survey_duration_s
+
+        try:
+            survey = sil_survey_config(args.dwell_s)
+        except ValueError as exc:
+            raise SilError(f"--dwell-s: {exc}") from None
+        duration = args.duration if args.duration is not None else survey_duration_s(survey)
+        rig = survey_rig(survey)
+    else:
+        try:
+            rig = rig_for(scenario, boards)
+        except ValueError as exc:
+            raise SilError(f"--boards {args.boards}: {exc}") from None
     show = not (args.quiet or args.json)
     run = SilRun(scenario, out=args.out, seed=seed, duration_s=duration, mode=args.mode,
-                 rig=rig, flavour="asan" if args.asan else "release",
+                 rig=rig, flavour="asan" if args.asan else "release", survey=survey,
                  progress=Progress(f"sil {scenario.name} ({args.mode})", duration, unit=" s",
                                    enabled=show),
                  world_progress=Progress(f"truth world {scenario.name}", duration, unit=" s",
@@ -142,7 +167,7 @@ def _truth(args: argparse.Namespace) -> int:
     from hil_sim.boards.sil import add_truth
 
     out = Path(args.out)
-    flight = load_flight_table(args.flight)
+    flight = load_flight_table(args.flight, required=("t_s",))  # marker tables too
     df, meta = add_truth(flight, Path(args.recording))
     tmp = out.with_name(f".{out.stem}.tmp{out.suffix}")
     try:

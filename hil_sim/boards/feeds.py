@@ -10,6 +10,7 @@
 | base   | `rc1..rc5` edges (RC PWM pulses) | `streams()["base/rc"]` |
 | base   | `ins` UART: the ship's VN200 | `streams()["base/vn200"]` (ship) |
 | marker | MPU-9250 `IMU` samples at 1 kHz | `MarkerImu` on the marker's mount point |
+| marker | `anemo` UART: Young 81000 ASCII lines (a survey) | `streams()["marker/anemometer"]` |
 | losa   | MPU-9250 `IMU` (the tracker stands still) | `MarkerImu` on the tracker's pose |
 | losa   | TSL1401 `LINE` irradiance, **online** | `LosaLineFeed` (below) |
 
@@ -281,10 +282,10 @@ class BoardFeeds:
     @classmethod
     def build(cls, result, rig: SilRig, rngs: dict[str, np.random.Generator]) -> BoardFeeds:
         s = result.streams()
-        cfg = result.scenario.sensors
         feeds: dict[str, list] = {b: [] for b in rig.boards}
         truth: dict = {}
         if "rover" in feeds:
+            cfg = result.scenario.sensors
             feeds["rover"].append(UartFeed("ins", s["rover/vn200"], cfg.vn200.baud))
             if "rover/rtk" in s:
                 feeds["rover"].append(UartFeed("rtk", s["rover/rtk"], cfg.rtk.baud))
@@ -293,7 +294,8 @@ class BoardFeeds:
         if "base" in feeds:
             feeds["base"].append(EdgeFeed(s["base/rc"], RC_CAPTURES))
             if "base/vn200" in s:
-                feeds["base"].append(UartFeed("ins", s["base/vn200"], cfg.base_vn200.baud))
+                feeds["base"].append(UartFeed("ins", s["base/vn200"],
+                                              result.scenario.sensors.base_vn200.baud))
         lines = None
         end_s = float(result.truth.t_s[-1])
         if "marker" in feeds:
@@ -301,6 +303,9 @@ class BoardFeeds:
                                           np.asarray(rig.marker_mount_quat_wxyz, float))
             feeds["marker"].append(ImuFeed(_imu_samples(mount, rig.imu_rate_hz,
                                                         rngs["marker"])))
+            if "marker/anemometer" in s:
+                an = s["marker/anemometer"]
+                feeds["marker"].append(UartFeed("anemo", an, an.baud))
         if "losa" in feeds:
             feeds["losa"].append(ImuFeed(_imu_samples(tracker_board_trajectory(rig, end_s),
                                                       rig.imu_rate_hz, rngs["losa_imu"])))

@@ -123,6 +123,47 @@ def rig_for(scenario, boards: tuple[str, ...] | None = None, *,
     return rig.replace(**changes)
 
 
+def survey_rig(cfg, *, tracker_distance_m: float = 1.5, **changes) -> SilRig:
+    """The rig of a hand-carried anemometer survey (`airwake sim run --survey`): the
+    LOSA tracker and the marker only. The tracker stands `tracker_distance_m` south of
+    the first station, level with it and facing north: the LOSA assumes the central slot
+    of each line sensor at start (firmware/boards/losa/slots.h), which covers only about
+    +-18 deg, so the survey starts straight in front of it (as the hall flight's hover
+    does) and the slot tracking follows the carrier from there. The marker is the
+    carrier's reference point, turned on the pole as `cfg.marker_mount_quat_wxyz` says
+    (`sil_survey_config` turns its LED 0 toward the tracker)."""
+    first = np.asarray(cfg.stations()[0], dtype=float)
+    rig = SilRig(boards=("losa", "marker"),
+                 tracker_position_ned_m=(float(first[0]) - tracker_distance_m,
+                                         float(first[1]), float(first[2])),
+                 marker_position_body_m=(0.0, 0.0, 0.0),
+                 marker_mount_quat_wxyz=tuple(float(v) for v in cfg.marker_mount_quat_wxyz))
+    return rig.replace(**changes)
+
+
+def sil_survey_config(dwell_s: float = 4.0, **changes):
+    """The survey `airwake sim run --survey` carries through the SIL boards: fan A's jet
+    near the fan (x 0.5-2.5 m, y +-0.6 m, the marker 1.25 and 1.75 m up, the anemometer
+    0.3 m above it; 50 stations), 1.5-3.8 m from the tracker (`survey_rig`), shorter
+    dwells than the full survey, the pole's heading held within +-0.2 rad. The
+    simulated LOSA loses a marker whose LED is > ~30 deg off its axis beyond ~3.5 m at
+    full drive (docs/wind-map.md), so the SIL survey stays within that; the reference
+    tracked out to 5.4 m. The anemometer stands upright facing north; the marker is
+    mounted on the pole as an operator would, its LED 0 toward the tracker from the
+    first station (`led_facing_mount`)."""
+    from hil_sim.world.anemometer_survey import SurveyConfig, carrier_trajectory
+
+    settings = {"x_range_m": (0.5, 2.5), "y_range_m": (-0.6, 0.6),
+                "heights_d_m": (-1.25, -1.75), "dwell_s": dwell_s,
+                "heading_swing_rad": 0.2, **changes}
+    cfg = SurveyConfig(**settings)
+    rig = survey_rig(cfg)
+    start = carrier_trajectory(cfg).at(np.array([0.0]))
+    mount = led_facing_mount(start.pos_ned_m[0], float(start.euler_rad[0, 2]),
+                             np.zeros(3), np.asarray(rig.tracker_position_ned_m, float))
+    return dataclasses.replace(cfg, marker_mount_quat_wxyz=mount)
+
+
 def led_facing_mount(cg_ned_m: np.ndarray, yaw_rad: float, marker_body_m: np.ndarray,
                      target_ned_m: np.ndarray, led: int = 0) -> tuple[float, ...]:
     """Mount (marker -> body quaternion, wxyz) turning LED `led`'s axis toward a target,

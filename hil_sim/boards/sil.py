@@ -51,7 +51,7 @@ from hil_sim.boards.channel import REPO_ROOT, ChannelError, NativeBoard, executa
 from hil_sim.boards.feeds import BoardFeeds
 from hil_sim.boards.host import HostDaemon, SilError, cpu_seconds
 from hil_sim.boards.links import BASE_FORWARD_MAX, Impairment, PtyPort
-from hil_sim.boards.rig import SilRig, rig_for
+from hil_sim.boards.rig import SilRig, rig_for, survey_rig
 from hil_sim.boards.simclock import SimClock
 
 MODES = ("stepped", "wall")
@@ -115,17 +115,26 @@ class SilRun:
                  duration_s: float | None = None, mode: str = "stepped",
                  rig: SilRig | None = None, faults=None, flavour: str = "release",
                  log_frames: bool = False, keep_delivered: bool = False,
-                 progress=None, world_progress=None) -> None:
+                 progress=None, world_progress=None, survey=None) -> None:
         if mode not in MODES:
             raise SilError(f"mode {mode!r}: expected one of {', '.join(MODES)}")
         self.scenario = scenario
         self.seed = scenario.seed if seed is None else int(seed)
-        self.duration_s = scenario.duration_s if duration_s is None else float(duration_s)
+        self.survey = survey  # a SurveyConfig: the marker carried with an anemometer
+        if survey is not None:
+            from hil_sim.world.anemometer_survey import survey_duration_s
+
+            full = survey_duration_s(survey)
+            self.duration_s = full if duration_s is None else min(float(duration_s), full)
+        else:
+            self.duration_s = scenario.duration_s if duration_s is None else float(duration_s)
         if not self.duration_s > 0:
             raise SilError(f"duration {self.duration_s!r}: must be > 0")
-        self.out = Path(out)
+        self.out = Path(out).resolve()  # the daemon runs from the repository root
         self.mode = mode
-        self.rig = rig or rig_for(scenario)
+        if rig is None:
+            rig = survey_rig(survey) if survey is not None else rig_for(scenario)
+        self.rig = rig
         self.faults = scenario.faults if faults is None else faults
         self.flavour = flavour
         self.log_frames = log_frames
@@ -169,8 +178,17 @@ class SilRun:
         self._executables()
         from hil_sim.world.run import build_config, run_scenario
 
-        self.world = run_scenario(self.scenario, seed=self.seed, duration_s=self.duration_s,
-                                  progress=self.world_progress)
+        if self.survey is not None:
+            from hil_sim.world.anemometer_survey import SurveyWorld
+
+            self.world = SurveyWorld(self.survey, seed=self.seed, scenario=self.scenario,
+                                     duration_s=self.duration_s)
+            world_config = self.world.build_config()
+        else:
+            self.world = run_scenario(self.scenario, seed=self.seed,
+                                      duration_s=self.duration_s,
+                                      progress=self.world_progress)
+            world_config = build_config(self.world)
         self.timing["world_s"] = time.perf_counter() - t0
         self.rngs = sil_rngs(self.seed)
         self.feeds = BoardFeeds.build(self.world, self.rig, self.rngs)
@@ -180,7 +198,7 @@ class SilRun:
         self._tmp = Path(tempfile.mkdtemp(prefix="airwake-sil-"))
         try:
             self._start_boards()
-            self._start_daemon(build_config(self.world))
+            self._start_daemon(world_config)
             self._open_ports()
         except BaseException:
             self._abort()
@@ -251,6 +269,8 @@ class SilRun:
             ports["ins"] = f"sim@{sensors.base_vn200.baud}"
             if "rover" in rig.boards:
                 ports["rover"] = f"sim@{rig.rover_link_baud}"
+        elif board == "marker" and "marker/anemometer" in self.world.streams():
+            ports["anemo"] = f"sim@{self.world.streams()['marker/anemometer'].baud}"
         return ports
 
     def _start_boards(self) -> None:
@@ -588,6 +608,7 @@ class SilRun:
         summary = {
             "format": "airwake-sil-run/1",
             "scenario": self.scenario.name, "seed": self.seed, "mode": self.mode,
+            "survey": _survey_dict(self.survey),
             "duration_s": sim_s, "boards": list(self.rig.boards),
             "host_ports": {b: str(self.out / "ports" / b) for b in self.ptys},
             "rig": _rig_dict(self.rig),
@@ -711,6 +732,14 @@ def _rig_dict(rig: SilRig) -> dict:
     return d
 
 
+def _survey_dict(survey) -> dict | None:
+    if survey is None:
+        return None
+    from hil_sim.sensors.config import config_to_dict
+
+    return config_to_dict(survey)
+
+
 def _faults_dict(faults) -> dict:
     from hil_sim.sensors.config import config_to_dict
 
@@ -776,7 +805,10 @@ def add_truth(flight, recording: Path):
             else:
                 df[c] = np.interp(t_sim, tt, v)
     meta = dict(flight.metadata)
-    for k in ("scenario", "seed", "scenario_config", "sim"):
+    # a survey's anemometer lever arm and mount are the rig's geometry (what a user
+    # measures on the pole), not truth of the flight: they travel too, for `airwake windmap`
+    for k in ("scenario", "seed", "scenario_config", "sim", "anemometer_lever_arm_m",
+              "anemometer_mount_quat_wxyz"):
         if k in truth.metadata:
             meta[k] = truth.metadata[k]
     meta["truth_from"] = str(truth_path)

@@ -28,6 +28,7 @@ truth wind at the sensor, `truth_anemo_wind_n/e/d_m_s`. Metadata: `frame` "ned",
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -54,7 +55,11 @@ class SurveyConfig:
     sway_m: float = 0.03
     tilt_rad: float = 0.06
     heading_swing_rad: float = 0.6
+    heading_rad: float = 0.0  # the carrier's mean heading (marker axes; x = north at 0)
     lever_arm_m: Vec3 = (0.05, 0.0, -0.30)
+    # the marker on the pole: marker axes -> carrier (anemometer) axes; the carrier's
+    # axes are the anemometer's, upright (z down), x along the pole's heading
+    marker_mount_quat_wxyz: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         check_finite("x_range_m", self.x_range_m)
@@ -64,6 +69,11 @@ class SurveyConfig:
         check_positive("speed_m_s", self.speed_m_s)
         check_positive("rate_hz", self.rate_hz)
         check_finite("lever_arm_m", self.lever_arm_m)
+        check_finite("heading_rad", self.heading_rad)
+        check_finite("marker_mount_quat_wxyz", self.marker_mount_quat_wxyz)
+        if abs(float(np.linalg.norm(self.marker_mount_quat_wxyz)) - 1.0) > 1e-6:
+            raise ValueError(f"marker_mount_quat_wxyz = {self.marker_mount_quat_wxyz!r}: "
+                             "not a unit quaternion")
         for name, v in (("step_m", self.step_m[0]), ("step_m", self.step_m[1])):
             check_positive(name, v)
 
@@ -80,6 +90,12 @@ class SurveyConfig:
                 flip = not flip
             ys = ys[::-1]
         return np.asarray(out, dtype=float)
+
+
+def survey_duration_s(cfg: SurveyConfig) -> float:
+    """The whole survey's length (s)."""
+    t = carrier_trajectory(cfg).t_s
+    return float(t[-1] - t[0])
 
 
 def _min_jerk(tau: np.ndarray) -> np.ndarray:
@@ -117,10 +133,96 @@ def carrier_trajectory(cfg: SurveyConfig) -> Trajectory:
     pos[:, 2] += sines(0.3 * cfg.sway_m, (1.9, 4.3), (0.7, 2.2))
     euler = np.column_stack([sines(cfg.tilt_rad, (1.4, 3.7), (0.0, 1.3)),
                              sines(cfg.tilt_rad, (1.1, 4.1), (0.9, 2.5)),
-                             sines(cfg.heading_swing_rad, (37.0, 5.3), (0.0, 0.8))])
+                             cfg.heading_rad
+                             + sines(cfg.heading_swing_rad, (37.0, 5.3), (0.0, 0.8))])
     vel = np.gradient(pos, t, axis=0)
     rates = euler_rates_to_body_rates(euler, np.gradient(euler, t, axis=0))
     return Trajectory.from_states(t, pos, vel, euler_to_quat(euler), rates)
+
+
+class SurveyWorld:
+    """The survey as a flown world, for the table and for the SIL boards
+    (`airwake sim run --survey`): `truth` the carrier's (marker's) kinematics, `samples`
+    the anemometer's, `streams()` its serial output ("marker/anemometer", the ASCII lines
+    the marker board reads), `flight_table()` the survey table (`survey_table`), and the
+    scenario whose wind field it samples."""
+
+    def __init__(self, cfg: SurveyConfig | None = None, *, seed: int = 2,
+                 scenario="fans_indoor", duration_s: float | None = None,
+                 anemometer: AnemometerConfig | None = None) -> None:
+        from hil_sim.world.run import RNG_STREAMS
+        from hil_sim.world.scenario import load_scenario
+        from hil_sim.world.wind import build_wind_field
+
+        self.config = cfg or SurveyConfig()
+        self.scenario = load_scenario(scenario) if isinstance(scenario, str) else scenario
+        self.seed = int(seed)
+        children = np.random.SeedSequence(self.seed).spawn(len(RNG_STREAMS))
+        rngs = {name: np.random.default_rng(c) for name, c in zip(RNG_STREAMS, children,
+                                                                  strict=True)}
+        self.field = build_wind_field(self.scenario.wind, rng=rngs["wind"], ship=None)
+        carrier = carrier_trajectory(self.config)
+        if duration_s is not None:
+            carrier = carrier.window(0.0, float(duration_s))
+        self.truth = carrier
+        self.duration_s = float(carrier.t_s[-1])
+        sensor = carrier.at_point(np.asarray(self.config.lever_arm_m, float))
+        self.device = Anemometer(anemometer, rng=rngs["reserved_anemometer"])
+        self.samples = self.device.measure(sensor, self.field)
+        self._streams: dict | None = None
+
+    def streams(self) -> dict:
+        if self._streams is None:
+            self._streams = {"marker/anemometer": self.device.ascii_stream(self.samples)}
+        return self._streams
+
+    def build_config(self):
+        """The builder settings (the site's NED origin; there is no helicopter)."""
+        from airwake.record.flight_builder import FlightBuildConfig
+
+        return FlightBuildConfig(
+            ned_origin_lla=tuple(self.scenario.sensors.vn200.origin_lla))
+
+    def table(self):
+        """(DataFrame, metadata): the survey table (module docstring). The truth pose is
+        the marker's (the reference point a tracker follows), so the metadata give the
+        lever arm in marker axes and the anemometer's axes relative to the marker's."""
+        import pandas as pd
+
+        from hil_sim.world.kinematics import quat_to_dcm
+
+        s, cfg, sc = self.samples, self.config, self.scenario
+        mount = np.asarray(cfg.marker_mount_quat_wxyz, float)
+        c = self.truth.at_point(np.zeros(3), mount).at(s.t_s)
+        r_marker = quat_to_dcm(mount).T @ np.asarray(cfg.lever_arm_m, float)
+        cols = {"t_s": s.t_s,
+                "anemo_u_m_s": s.wind_sensor_m_s[:, 0], "anemo_v_m_s": s.wind_sensor_m_s[:, 1],
+                "anemo_w_m_s": s.wind_sensor_m_s[:, 2], "anemo_temp_c": s.sonic_temperature_c,
+                "anemo_valid": np.ones(len(s))}
+        for j, n in enumerate(("n", "e", "d")):
+            cols[f"truth_pos_{n}_m"] = c.pos_ned_m[:, j]
+        for j, n in enumerate(("u", "v", "w")):
+            cols[f"truth_vel_{n}_m_s"] = c.vel_body_m_s[:, j]
+        for j, n in enumerate(("roll", "pitch", "yaw")):
+            cols[f"truth_{n}_rad"] = c.euler_rad[:, j]
+        for j, n in enumerate(("p", "q", "r")):
+            cols[f"truth_{n}_rad_s"] = c.rates_body_rad_s[:, j]
+        for j, n in enumerate(("n", "e", "d")):
+            cols[f"truth_anemo_wind_{n}_m_s"] = s.wind_ned_m_s[:, j]
+        meta = {"frame": "ned", "source": "sim", "scenario": f"{sc.name}_anemometer_survey",
+                "seed": self.seed, "scenario_config": {"wind": dict(sc.describe()["wind"])},
+                "anemometer_lever_arm_m": [float(v) for v in r_marker],
+                "anemometer_mount_quat_wxyz": [float(mount[0]), *(-float(v)
+                                                                  for v in mount[1:])],
+                "survey": {k: (list(v) if isinstance(v, tuple) else v)
+                           for k, v in config_to_dict(cfg).items()},
+                "sensors": {"anemometer": config_to_dict(self.device.config)}}
+        return pd.DataFrame(cols), meta
+
+    def flight_table(self):
+        """The table as the SIL run's truth table wants it (`.df`, `.metadata`)."""
+        df, meta = self.table()
+        return SimpleNamespace(df=df, metadata=meta)
 
 
 def survey_table(cfg: SurveyConfig | None = None, *, seed: int = 2,
@@ -128,43 +230,5 @@ def survey_table(cfg: SurveyConfig | None = None, *, seed: int = 2,
                  anemometer: AnemometerConfig | None = None):
     """(DataFrame, metadata) of the survey (module docstring). `duration_s` cuts the
     survey short (tests)."""
-    import pandas as pd
-
-    from hil_sim.world.run import RNG_STREAMS
-    from hil_sim.world.scenario import load_scenario
-    from hil_sim.world.wind import build_wind_field
-
-    cfg = cfg or SurveyConfig()
-    sc = load_scenario(scenario)
-    children = np.random.SeedSequence(int(seed)).spawn(len(RNG_STREAMS))
-    rngs = {name: np.random.default_rng(c) for name, c in zip(RNG_STREAMS, children,
-                                                              strict=True)}
-    field = build_wind_field(sc.wind, rng=rngs["wind"], ship=None)
-    carrier = carrier_trajectory(cfg)
-    if duration_s is not None:
-        carrier = carrier.window(0.0, float(duration_s))
-    sensor = carrier.at_point(np.asarray(cfg.lever_arm_m, float))
-    dev = Anemometer(anemometer, rng=rngs["reserved_anemometer"])
-    s = dev.measure(sensor, field)
-    c = carrier.at(s.t_s)
-    cols = {"t_s": s.t_s,
-            "anemo_u_m_s": s.wind_sensor_m_s[:, 0], "anemo_v_m_s": s.wind_sensor_m_s[:, 1],
-            "anemo_w_m_s": s.wind_sensor_m_s[:, 2], "anemo_temp_c": s.sonic_temperature_c,
-            "anemo_valid": np.ones(len(s))}
-    for j, n in enumerate(("n", "e", "d")):
-        cols[f"truth_pos_{n}_m"] = c.pos_ned_m[:, j]
-    for j, n in enumerate(("u", "v", "w")):
-        cols[f"truth_vel_{n}_m_s"] = c.vel_body_m_s[:, j]
-    for j, n in enumerate(("roll", "pitch", "yaw")):
-        cols[f"truth_{n}_rad"] = c.euler_rad[:, j]
-    for j, n in enumerate(("p", "q", "r")):
-        cols[f"truth_{n}_rad_s"] = c.rates_body_rad_s[:, j]
-    for j, n in enumerate(("n", "e", "d")):
-        cols[f"truth_anemo_wind_{n}_m_s"] = s.wind_ned_m_s[:, j]
-    meta = {"frame": "ned", "source": "sim", "scenario": f"{sc.name}_anemometer_survey",
-            "seed": int(seed), "scenario_config": {"wind": dict(sc.describe()["wind"])},
-            "anemometer_lever_arm_m": [float(v) for v in cfg.lever_arm_m],
-            "survey": {k: (list(v) if isinstance(v, tuple) else v)
-                       for k, v in config_to_dict(cfg).items()},
-            "sensors": {"anemometer": config_to_dict(dev.config)}}
-    return pd.DataFrame(cols), meta
+    return SurveyWorld(cfg, seed=seed, scenario=scenario, duration_s=duration_s,
+                       anemometer=anemometer).table()

@@ -56,9 +56,11 @@ def _handle(args: argparse.Namespace) -> int:
     from airwake.windmap.report import make_windmap
 
     lever = None if args.lever_arm_m is None else _floats(args.lever_arm_m, 3, "--lever-arm-m")
+    mount = None if args.mount_quat is None else _floats(args.mount_quat, 4, "--mount-quat")
     table = load_input(args.input)
     summary = make_windmap(
-        table, args.out, pose=args.pose, lever_arm_m=lever, score=args.score,
+        table, args.out, pose=args.pose, lever_arm_m=lever, mount_quat_wxyz=mount,
+        score=args.score,
         source_name=str(args.input), volume_m=_floats(args.volume_m, 3, "--volume-m"),
         grid_m=args.grid_m, location_m=args.location_m, min_seconds=args.min_seconds,
         source_speed_m_s=args.source_speed_m_s)
@@ -103,6 +105,10 @@ def register(subparsers) -> None:
     p.add_argument("--lever-arm-m", default=None, metavar="X,Y,Z",
                    help="pose reference point -> anemometer, body axes (default: metadata "
                    "anemometer_lever_arm_m, else 0)")
+    p.add_argument("--mount-quat", default=None, metavar="W,X,Y,Z",
+                   help="the anemometer's axes relative to the pose's body axes (anemometer "
+                   "-> body, unit quaternion; default: metadata anemometer_mount_quat_wxyz, "
+                   "else aligned)")
     p.add_argument("--volume-m", default="1.3,1.3,0.6", metavar="X,Y,Z",
                    help="model volume (1.3,1.3,0.6 m)")
     p.add_argument("--grid-m", type=float, default=0.05, help="grid spacing (0.05 m)")

@@ -2,22 +2,25 @@
 inverted with the tracked pose.
 
 The anemometer measures the air velocity relative to itself in its own axes
-(`hil_sim.sensors.anemometer`, the mount's axes = the pose's body axes here):
+(`hil_sim.sensors.anemometer`):
 
-    w_meas = R^T (w(p_s) - v_s),   p_s = p + R r,   v_s = v + R (omega x r)
+    w_meas = M^T R^T (w(p_s) - v_s),   p_s = p + R r,   v_s = v + R (omega x r)
 
 with R the attitude (body -> NED, roll/pitch/yaw), p and v the tracked reference point's
-position and velocity (NED), omega its body rates and r the lever arm from the reference
-point to the anemometer's sensing volume (body axes). Inverted:
+position and velocity (NED), omega its body rates, r the lever arm from the reference
+point to the anemometer's sensing volume (body axes) and M the anemometer's axes relative
+to the body's (anemometer -> body; identity when the marker is mounted with the
+anemometer's axes). Inverted:
 
-    w(p_s) = R w_meas + v + R (omega x r)
+    w(p_s) = R (M w_meas + omega x r) + v
 
 Pose sources (columns of the table, docs/flight-table.md "Anemometer pose"):
 - "marker": the tracked marker (pose EKF) — `marker_pos_n/e/d_m`,
   `marker_vel_n/e/d_m_s`, `marker_roll/pitch/yaw_rad`, `marker_p/q/r_rad_s`;
 - "truth": a simulated table's truth pose of the carrier — `truth_pos_n/e/d_m`,
   `truth_vel_u/v/w_m_s` (body axes), `truth_roll/pitch/yaw_rad`, `truth_p/q/r_rad_s`.
-The lever arm r comes from the table's metadata `anemometer_lever_arm_m` (or is given).
+The lever arm r comes from the table's metadata `anemometer_lever_arm_m` and M from
+`anemometer_mount_quat_wxyz` (w, x, y, z; anemometer -> body), or are given.
 """
 
 from __future__ import annotations
@@ -54,6 +57,7 @@ class CompensatedSamples:
     pose: str
     lever_arm_m: np.ndarray
     dt: float
+    mount_quat_wxyz: np.ndarray | None = None
 
 
 def _columns(cols) -> list[str]:
@@ -80,8 +84,20 @@ def check_anemometer(df) -> None:
         raise WindMapError(f"the table has no anemometer wind (missing {', '.join(missing)})")
 
 
+def mount_matrix(quat_wxyz) -> np.ndarray:
+    """M (3, 3), anemometer -> body, of a unit quaternion (w, x, y, z)."""
+    q = np.asarray(quat_wxyz, dtype=float).reshape(-1)
+    if q.shape != (4,) or not np.all(np.isfinite(q)) or abs(np.linalg.norm(q) - 1.0) > 1e-3:
+        raise WindMapError(f"anemometer mount {quat_wxyz!r}: expected a unit quaternion "
+                           "w,x,y,z (anemometer -> body axes)")
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
 def compensate(df, metadata: dict | None = None, *, pose: str = "auto",
-               lever_arm_m=None) -> CompensatedSamples:
+               lever_arm_m=None, mount_quat_wxyz=None) -> CompensatedSamples:
     """The table's anemometer samples in the site NED frame (module docstring). Rows with
     `anemo_valid` 0 (no anemometer sample there) are left out."""
     from airwake.record.flight_builder import euler_to_dcm
@@ -98,6 +114,9 @@ def compensate(df, metadata: dict | None = None, *, pose: str = "auto",
     if r.shape != (3,) or not np.all(np.isfinite(r)):
         raise WindMapError(f"anemometer lever arm {lever_arm_m!r}: expected three finite "
                            "numbers (m, body axes)")
+    if mount_quat_wxyz is None:
+        mount_quat_wxyz = meta.get("anemometer_mount_quat_wxyz", (1.0, 0.0, 0.0, 0.0))
+    m = mount_matrix(mount_quat_wxyz)
     keep = np.ones(len(df), bool)
     if "anemo_valid" in df.columns:
         keep = np.asarray(df["anemo_valid"], float) > 0.5
@@ -121,8 +140,9 @@ def compensate(df, metadata: dict | None = None, *, pose: str = "auto",
     rot = euler_to_dcm(att[:, 0], att[:, 1], att[:, 2])  # body -> NED
     if cols["vel_frame"] == "body":
         v = np.einsum("nij,nj->ni", rot, v)
-    # p_s = p + R r ;  w(p_s) = R w_meas + v + R (omega x r)        (§3.4, inverted)
+    # p_s = p + R r ;  w(p_s) = R (M w_meas + omega x r) + v        (§3.4, inverted)
     pos = p + np.einsum("nij,j->ni", rot, r)
-    wind = np.einsum("nij,nj->ni", rot, w_meas + np.cross(omega, r)) + v
+    wind = np.einsum("nij,nj->ni", rot, w_meas @ m.T + np.cross(omega, r)) + v
     dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
-    return CompensatedSamples(t, pos, wind, source, r, dt)
+    return CompensatedSamples(t, pos, wind, source, r, dt,
+                              np.asarray(mount_quat_wxyz, dtype=float).reshape(4))

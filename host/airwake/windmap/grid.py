@@ -253,6 +253,8 @@ def build_windmap(s: CompensatedSamples, *, volume_m=VOLUME_M, grid_m: float = G
         if grid[c].dtype == np.float64 and c not in ("x_m", "y_m", "z_m"):
             grid[c] = grid[c].astype(np.float32)
     settings = {"frame": "site (NED)", "pose": s.pose, "lever_arm_m": s.lever_arm_m.tolist(),
+                "mount_quat_wxyz": (None if s.mount_quat_wxyz is None
+                                    else s.mount_quat_wxyz.tolist()),
                 "volume_m": [float(v) for v in np.asarray(volume_m, float)],
                 "grid_m": float(grid_m), "location_m": float(location_m),
                 "min_seconds": float(min_seconds), "source_speed_m_s": float(source_speed_m_s),

@@ -86,7 +86,7 @@ def headline(wmap) -> str:
 
 
 def make_windmap(table, out_dir, *, pose: str = "auto", lever_arm_m=None, score: bool = False,
-                 source_name: str = "table", **settings) -> dict:
+                 source_name: str = "table", mount_quat_wxyz=None, **settings) -> dict:
     """Compensate, map, score (optionally) and write (module docstring). `table`:
     FlightTable-like (df, metadata); `settings`: `build_windmap`'s keywords."""
     from airwake.estimate.airwake_map import write_json
@@ -98,7 +98,8 @@ def make_windmap(table, out_dir, *, pose: str = "auto", lever_arm_m=None, score:
     if not out.parent.is_dir():
         raise WindMapError(f"cannot write {out}: directory {out.parent} does not exist")
     check_map_dir(out, WindMapError, ("grid.parquet", "summary.json"))
-    samples = compensate(table.df, table.metadata, pose=pose, lever_arm_m=lever_arm_m)
+    samples = compensate(table.df, table.metadata, pose=pose, lever_arm_m=lever_arm_m,
+                         mount_quat_wxyz=mount_quat_wxyz)
     wmap = build_windmap(samples, **settings)
     if score:
         wmap.score = score_windmap(wmap, table.metadata)
