@@ -20,6 +20,28 @@ def test_compensation_recovers_the_field_at_the_sensor_on_a_moving_tilted_mount(
     assert np.sqrt(np.mean((raw - truth) ** 2)) > 0.3  # the uncompensated error
 
 
+def test_a_marker_turned_on_the_pole_needs_only_the_mount():
+    # the marker mounted turned on the pole (its LED toward the tracker), the anemometer
+    # upright: the survey's truth pose is the marker's, its metadata carry the lever arm in
+    # marker axes and the anemometer's axes relative to the marker's; compensation with
+    # them recovers the field, and ignoring the mount does not
+    from hil_sim.world.anemometer_survey import SurveyConfig, survey_table
+
+    mount = np.array([0.8, 0.2, -0.3, 0.4])
+    mount /= np.linalg.norm(mount)
+    cfg = SurveyConfig(x_range_m=(1.0, 2.0), y_range_m=(0.0, 0.3), heights_d_m=(-1.5,),
+                       dwell_s=2.0, marker_mount_quat_wxyz=tuple(mount))
+    df, meta = survey_table(cfg, seed=9)
+    truth = df[["truth_anemo_wind_n_m_s", "truth_anemo_wind_e_m_s",
+                "truth_anemo_wind_d_m_s"]].to_numpy()
+    s = compensate(df, meta)
+    assert np.all(np.sqrt(np.mean((s.wind - truth) ** 2, axis=0)) < 0.03)
+    wrong = compensate(df, meta, mount_quat_wxyz=(1.0, 0.0, 0.0, 0.0))
+    assert np.sqrt(np.mean((wrong.wind - truth) ** 2)) > 0.5
+    with pytest.raises(WindMapError, match="unit quaternion"):
+        compensate(df, meta, mount_quat_wxyz=(1.0, 1.0, 0.0, 0.0))
+
+
 def test_lever_arm_moves_the_sample_position_and_adds_omega_cross_r():
     # one sample, yawed 90 deg, spinning at r = 1 rad/s about z, anemometer 1 m ahead
     df = pd.DataFrame({"t_s": [0.0, 0.01], "anemo_u_m_s": [0.0, 0.0],
