@@ -12,9 +12,11 @@ AIRWAKE := $(VENV)/bin/airwake
 VENV_STAMP := $(VENV)/.installed
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # arm-none-eabi toolchain for the Teensy images, valgrind for instruction counts,
-# teensy-loader-cli for `make flash`, chromium(-driver) for the report's browser test.
+# teensy-loader-cli for `make flash`, chromium(-driver) for the report's browser test,
+# clang + libclang-rt-14-dev (libFuzzer, ASan/UBSan runtimes) for the fuzz targets that
+# `make test` runs (tests/link/test_fuzz_smoke.py; firmware/mk/fuzz.mk).
 APT_PACKAGES := gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi \
-                valgrind teensy-loader-cli gcc chromium chromium-driver
+                valgrind teensy-loader-cli gcc chromium chromium-driver clang libclang-rt-14-dev
 PYTEST_ARGS ?= -n 2
 BOARD ?=
 

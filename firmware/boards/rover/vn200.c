@@ -59,14 +59,13 @@ static int header(const uint8_t *b, size_t n, size_t *total)
         if (mask == 0 || (mask & 0x8000u)) {
             return HDR_BAD;
         }
-        for (unsigned bit = 0; bit < 15; bit++) {
-            if (mask & (1u << bit)) {
-                const unsigned sz = field_size[g][bit];
-                if (sz == 0) {
-                    return HDR_BAD;
-                }
-                payload += sz;
+        /* only the set bits (this runs for every byte of a pending packet) */
+        for (unsigned rest = mask; rest != 0; rest &= rest - 1u) {
+            const unsigned sz = field_size[g][__builtin_ctz(rest)];
+            if (sz == 0) {
+                return HDR_BAD;
             }
+            payload += sz;
         }
     }
     *total = idx + payload + 2;
@@ -175,9 +174,15 @@ static int later_packet_completed(vn200_parser_t *p)
     if (p->later_syncs == 0) {
         return 0; /* the usual case: no other sync byte since the front one */
     }
+    /* visit only the buffered sync bytes (memchr), not every position */
     for (size_t j = 1; j + 2 < p->n; j++) {
+        const uint8_t *s = memchr(p->buf + j, VN200_SYNC, p->n - 2 - j);
+        if (s == NULL) {
+            break;
+        }
+        j = (size_t)(s - p->buf);
         size_t total = 0;
-        if (p->buf[j] == VN200_SYNC && header(p->buf + j, p->n - j, &total) == HDR_OK && total == p->n - j &&
+        if (header(p->buf + j, p->n - j, &total) == HDR_OK && total == p->n - j &&
             crc16_xmodem(p->buf + j + 1, total - 1) == 0) {
             p->bytes_dropped += (uint32_t)j;
             discard(p, j);
