@@ -176,6 +176,61 @@ static void test_vn200_skips_unused_fields_by_size_table(void)
     CHECK(p.bad_headers == 1);
 }
 
+/* A VN-100 style configuration (groups 3+5, IMU 0x003E: UncompMag/Accel/Gyro, Temp,
+ * Pres; Attitude 0x003A: YPR, DCM, MagNed, AccelNed): 29 floats, 124 bytes. */
+static size_t build_vn100_packet(uint8_t *b, float yaw)
+{
+    size_t i = 0;
+    b[i++] = 0xFA;
+    b[i++] = 0x14;
+    b[i++] = 0x3E;
+    b[i++] = 0x00;
+    b[i++] = 0x3A;
+    b[i++] = 0x00;
+    float f[29];
+    for (int k = 0; k < 29; k++) {
+        f[k] = (float)k * 0.5f - 3.0f;
+    }
+    f[11] = yaw; /* YPR follows the 11 IMU floats */
+    i = put(b, i, f, sizeof f);
+    const uint16_t crc = crc16_xmodem(b + 1, i - 1);
+    b[i++] = (uint8_t)(crc >> 8);
+    b[i++] = (uint8_t)crc;
+    return i;
+}
+
+/* The shape of the real VN-100 capture's hard case: a logger's ASCII markers between
+ * packets and a stray sync byte right before a packet (the upstream parser lost that
+ * packet). Any group/field configuration is framed from its masks; only YPR of this one
+ * is a field we decode. */
+static void test_vn200_frames_vn100_layout_after_a_stray_sync(void)
+{
+    uint8_t stream[512];
+    size_t n = 0;
+    const char *marker = "M,123456\r\n";
+    memcpy(stream, marker, strlen(marker));
+    n += strlen(marker);
+    n += build_vn100_packet(stream + n, 10.0f);
+    CHECK(n - strlen(marker) == 124);
+    stream[n++] = 0xFA; /* stray */
+    n += build_vn100_packet(stream + n, 20.0f);
+    stream[n++] = 0xFA; /* stray, then a packet cut short, then a whole one */
+    const size_t cut = build_vn100_packet(stream + n, 30.0f);
+    (void)cut;
+    n += 60;
+    n += build_vn100_packet(stream + n, 40.0f);
+    vn200_parser_t p;
+    sink_t s = {.count = 0};
+    vn200_parser_init(&p, on_ins, &s);
+    for (size_t i = 0; i < n; i++) {
+        vn200_parser_feed(&p, &stream[i], 1);
+    }
+    CHECK(s.count == 3);
+    CHECK(s.last.group == 0x14 && s.last.present == VN200_HAVE_YPR);
+    CHECK(s.last.ypr_deg[0] == 40.0f && s.last.ypr_deg[1] == 3.0f);
+    CHECK(p.bytes_dropped == n - 3 * 124 && p.n == 0);
+}
+
 int main(void)
 {
     RUN(test_crc16_xmodem_check_value);
@@ -184,5 +239,6 @@ int main(void)
     RUN(test_vn200_resyncs_into_packet_hidden_in_truncated_one);
     RUN(test_vn200_skips_garbage_between_packets);
     RUN(test_vn200_skips_unused_fields_by_size_table);
+    RUN(test_vn200_frames_vn100_layout_after_a_stray_sync);
     return ALGO_TEST_EXIT();
 }
