@@ -128,12 +128,13 @@ def _vn_packet(groups: int, masks: dict[int, int], payload: bytes) -> bytes:
 
 @st.composite
 def vn_packets(draw):
-    groups = draw(st.integers(1, 0x7F))
+    # <= 3 groups x <= 2 fields (<= 68 bytes each): within VN200_MAX_PACKET
+    groups = draw(st.integers(1, 0x7F).filter(lambda g: bin(g).count("1") <= 3))
     masks, size = {}, 0
     for g in range(7):
         if groups >> g & 1:
             fixed = [b for b in range(15) if VN_FIELD_SIZES[g][b]]
-            bits = draw(st.sets(st.sampled_from(fixed), min_size=1, max_size=3))
+            bits = draw(st.sets(st.sampled_from(fixed), min_size=1, max_size=2))
             masks[g] = sum(1 << b for b in bits)
             size += sum(VN_FIELD_SIZES[g][b] for b in bits)
     return _vn_packet(groups, masks, draw(st.binary(min_size=size, max_size=size)))
@@ -152,8 +153,8 @@ def test_vn_scan_finds_exactly_the_packets(items, tail):
         expect.append((len(stream), len(pkt)))
         stream += pkt
     stream += tail
-    # a valid packet may hide a shorter valid one only by a CRC accident: none here
-    assert vn_scan(stream) == expect or any(b"\xfa" in p[1:] for _, p in items)
+    # garbage without a sync byte: the scan meets each packet's sync first, takes it whole
+    assert vn_scan(stream) == expect
 
 
 @settings(max_examples=150, deadline=None)
@@ -168,7 +169,7 @@ def test_sbp_scan_finds_exactly_the_frames(items, tail):
         expect.append((len(stream), len(frame)))
         stream += frame
     stream += tail
-    assert sbp_scan(stream) == expect or any(b"\x55" in f for *_, f in items)
+    assert sbp_scan(stream) == expect
 
 
 def test_scans_refuse_a_bad_crc():
