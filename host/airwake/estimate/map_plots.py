@@ -139,3 +139,35 @@ def plot_map(cells, out_dir, cell_m: float, frame: str, ship: ShipOutline | None
         fig.savefig(paths[name], bbox_inches="tight")
         plt.close(fig)
     return paths
+
+
+def plot_cell_values(cells, values, path, cell_m: float, frame: str,
+                     ship: ShipOutline | None, label: str, title: str = "",
+                     cmap: str = "viridis", symmetric: bool = False) -> Path:
+    """One PNG of per-cell `values` over the main layer (see module doc); `symmetric`
+    centres the colour scale on zero. Returns the path."""
+    import matplotlib.pyplot as plt
+
+    values = np.asarray(values, float)
+    iz = main_layer(cells)
+    sel = (cells["iz"] == iz).to_numpy()
+    layer = cells[sel]
+    z = float(layer["z_m"].iloc[0])
+    where = (f"layer centred {-z:.1f} m above the deck" if frame == "ship" else
+             f"layer centred at down = {z:+.1f} m")
+    ship = ship if frame == "ship" else None
+    v = values[sel]
+    lim = (None, None)
+    if symmetric and np.isfinite(v).any():
+        m = max(float(np.nanmax(np.abs(v))), 1e-12)
+        lim = (-m, m)
+    fig, ax = _axes(frame)
+    _cells_image(ax, layer, v, cell_m, cmap, label, *lim)
+    if ship is not None:
+        ship.draw(ax)
+    _frame_limits(ax, layer, cell_m, ship)
+    ax.set_title(f"{title}\n{where}", fontsize=10)
+    path = Path(path)
+    fig.savefig(path, bbox_inches="tight")
+    plt.close(fig)
+    return path

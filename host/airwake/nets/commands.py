@@ -16,7 +16,8 @@ def _crop_args(p: argparse.ArgumentParser) -> None:
 
 def register(subparsers) -> None:
     group = subparsers.add_parser(
-        "nets", help="pilot-compensation networks: train, evaluate (docs/networks.md)",
+        "nets", help="pilot-compensation networks: train, evaluate, airwake intensity, wind nets "
+        "(docs/networks.md)",
         description="Networks that predict body rates or roll/pitch angular accelerations "
         "from the pilot's inputs (reference ch. 2, §4.3); what they cannot predict is the "
         "disturbance.")
@@ -59,6 +60,35 @@ def register(subparsers) -> None:
                    help="write t_s, <axis>_pred_*, <axis>_resid_* of every flight (column "
                    "'flight' = index of FLIGHT when several)")
     e.set_defaults(func=_evaluate)
+
+    a = sub.add_parser("airwake", help="airwake intensity A_ω map from a net's residuals",
+                       description="A_ω (eq 2.4) and the residual std per sample from a "
+                       "trained net's residuals, their peaks (>= 15 s apart, >= 1.5 local "
+                       "stds over 10 s), gridded over the helicopter's position in the ship "
+                       "frame (map.parquet, peaks.csv, PNGs); the residual std calibrated to "
+                       "turbulence in m/s with RANSAC (§4.4.1) on simulated flights' truth "
+                       "(--calibrate-on) or a stored calibration (docs/networks.md).")
+    a.add_argument("flight", metavar="FLIGHT")
+    a.add_argument("--net", required=True, metavar="NET.pt")
+    a.add_argument("--out", required=True, metavar="DIR")
+    a.add_argument("--std-window-s", type=float, default=0.5,
+                   help="window of ω_s and of the residual std (0.5 s)")
+    a.add_argument("--cell-m", type=float, default=1.0, help="map cell size (1 m)")
+    a.add_argument("--layer-m", type=float, default=2.0, help="map layer height (2 m)")
+    a.add_argument("--min-seconds", type=float, default=1.0,
+                   help="cells with less data are left out (1 s)")
+    cal = a.add_mutually_exclusive_group()
+    cal.add_argument("--calibrate-on", nargs="+", metavar="SIMFLIGHT", default=None,
+                     help="fit the turbulence calibration (RANSAC) on these simulated "
+                     "flights' truth turbulence; written to DIR/calibration.json")
+    cal.add_argument("--calibration", metavar="CAL.json", default=None,
+                     help="apply a calibration.json of an earlier --calibrate-on")
+    a.add_argument("--seed", type=int, default=0, help="RANSAC seed (0)")
+    a.add_argument("--score", action="store_true",
+                   help="simulated flight: correlate the map with the simulator's "
+                   "turbulence over the same cells")
+    a.add_argument("--json", action="store_true", help="print the summary as JSON")
+    a.set_defaults(func=_airwake)
 
 
 def _load_flights(paths, target, inputs, from_s, to_s):
@@ -163,4 +193,32 @@ def _evaluate(args: argparse.Namespace) -> int:
         print(format_scores(report["overall"], report["unit"], "all flights"))
     if args.out:
         print(f"wrote {args.out}", file=sys.stderr)
+    return 0
+
+
+def _airwake(args: argparse.Namespace) -> int:
+    from airwake.nets.intensity_commands import run_airwake
+
+    summary = run_airwake(args)
+    if args.json:
+        print(json.dumps(summary, indent=2, sort_keys=True))
+        return 0
+    print(f"{summary['flight']}: {summary['samples']} samples, {summary['cells']} cells of "
+          f"{summary['settings']['cell_m']:g} m ({summary['settings']['frame']} frame), "
+          f"{len(summary['peaks'])} A_ω peak(s)")
+    c = summary.get("calibration")
+    if c:
+        print(f"turbulence calibration ({c['source']}): {c['slope']:.4g} m/s per "
+              f"{summary['resid_unit']} · resid_std {c['offset']:+.3f} m/s "
+              f"({c.get('inliers', '?')}/{c.get('points', '?')} RANSAC inliers; the "
+              f"reference: 0.021 m·s/rad for rad/s²)")
+    s = summary.get("score")
+    if s:
+        print(f"score over {s['cells']} cells (>= {s['min_seconds']:g} s) against the "
+              f"simulator's turbulence: Pearson A_ω {s['a_omega_pearson']:.3f}, residual std "
+              f"{s['resid_std_pearson']:.3f} (Spearman {s['a_omega_spearman']:.3f}, "
+              f"{s['resid_std_spearman']:.3f})"
+              + (f"; calibrated RMS error {s['turbulence_rms_error_m_s']:.3f} m/s"
+                 if "turbulence_rms_error_m_s" in s else ""))
+    print(f"wrote {summary['out']}", file=sys.stderr)
     return 0

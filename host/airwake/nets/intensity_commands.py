@@ -1,0 +1,123 @@
+"""`airwake nets airwake FLIGHT --net NET.pt --out DIR`: the steps behind the command
+(predict -> intensity -> map -> calibration -> score -> files), kept out of commands.py so
+the parser stays a parser."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from airwake.nets.model import NetFileError
+
+CALIBRATION_FORMAT = "airwake-turbulence-calibration/1"
+
+
+def _load_table(path):
+    """A flight table with its metadata; only the columns present are checked (the map
+    needs the net's inputs and a position, not the whole contract)."""
+    from airwake.record.flight_table import load_flight_table
+
+    return load_flight_table(path, required=())
+
+
+def _is_simulated(table) -> bool:
+    return isinstance(table.metadata.get("scenario_config"), dict) and "seed" in table.metadata
+
+
+def intensity_map_of(net, table, config, args, with_truth: bool):
+    from airwake.nets.evaluate import predict
+    from airwake.nets.intensity_map import build_intensity_map
+
+    pred = predict(net, table)
+    return build_intensity_map(pred, table.df, config, args.cell_m, args.layer_m,
+                               args.min_seconds, table.metadata if with_truth else None)
+
+
+def _check_net_target(net, cal: dict, source: str) -> None:
+    if cal.get("net_target") not in (None, net.card["target"]):
+        raise NetFileError(f"{source}: a calibration of a {cal['net_target']} net, this net "
+                           f"predicts {net.card['target']}")
+
+
+def run_airwake(args) -> dict:
+    """The command (module doc); returns its JSON summary."""
+    import torch
+
+    from airwake.estimate.airwake_map import write_json
+    from airwake.nets.calibration import LineFit
+    from airwake.nets.intensity import IntensityConfig
+    from airwake.nets.intensity_map import calibrate_cells, score_intensity, write_intensity_map
+    from airwake.nets.model import load_net
+    from airwake.record.flight_table import FlightTableError
+
+    torch.set_num_threads(1)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise NetFileError(f"--out {out}: exists and is not a folder")
+    if not out.parent.is_dir():
+        raise NetFileError(f"--out {out}: its parent folder does not exist")
+    try:
+        config = IntensityConfig(std_window_s=args.std_window_s)
+    except ValueError as exc:
+        raise NetFileError(f"--std-window-s: {exc}") from None
+    net = load_net(args.net)
+    table = _load_table(args.flight)
+    if args.score and not _is_simulated(table):
+        raise FlightTableError(f"--score: {args.flight} is not a simulated flight (its metadata "
+                               "has no scenario_config and seed)")
+    amap = intensity_map_of(net, table, config, args, args.score)
+    fit, cal = None, None
+    if args.calibrate_on:
+        cells = []
+        for p in args.calibrate_on:
+            t = _load_table(p)
+            if not _is_simulated(t):
+                raise FlightTableError(f"--calibrate-on: {p} is not a simulated flight")
+            cells.append(intensity_map_of(net, t, config, args, True).cells)
+        try:
+            fit = calibrate_cells(pd.concat(cells, ignore_index=True),
+                                  np.random.default_rng(args.seed))
+        except ValueError as exc:
+            raise NetFileError(f"--calibrate-on: {exc}") from None
+        cal = {"format": CALIBRATION_FORMAT, "source": "ransac", **fit.to_dict(),
+               "flights": [str(p) for p in args.calibrate_on], "net": str(args.net),
+               "net_target": net.card["target"], "resid_unit": amap.resid_unit,
+               "intensity": config.to_dict(), "cell_m": args.cell_m, "seed": args.seed}
+    elif args.calibration:
+        try:
+            cal = json.loads(Path(args.calibration).read_text())
+            if cal.get("format") != CALIBRATION_FORMAT:
+                raise ValueError(f"format {cal.get('format')!r}, expected {CALIBRATION_FORMAT}")
+            fit = LineFit(float(cal["slope"]), float(cal["offset"]), np.zeros(0, bool),
+                          float(cal.get("threshold", float("nan"))), int(cal.get("points", 0)))
+        except (OSError, ValueError, KeyError) as exc:
+            raise NetFileError(f"--calibration {args.calibration}: {exc}") from None
+        _check_net_target(net, cal, args.calibration)
+    if fit is not None:
+        amap.cells["turbulence_m_s"] = fit(amap.cells["resid_std"].to_numpy())
+        amap.samples["turbulence_m_s"] = fit(amap.samples["resid_std"].to_numpy())
+    summary = {"flight": str(args.flight), "net": str(args.net),
+               "net_target": net.card["target"], "resid_unit": amap.resid_unit,
+               "samples": len(amap.samples), "cells": len(amap.cells),
+               "settings": amap.settings, "peaks": amap.peaks.to_dict("records"),
+               "out": str(out)}
+    if cal is not None:
+        summary["calibration"] = cal
+    if args.score:
+        summary["score"] = score_intensity(amap.cells, fit)
+        if args.calibrate_on and args.flight in args.calibrate_on:
+            summary["score"]["note"] = "scored on a calibration flight (in-sample)"
+    meta = {"kind": "airwake-intensity-map", **{k: v for k, v in summary.items()
+                                                 if k not in ("peaks", "score")}}
+    out.mkdir(exist_ok=True)
+    title = f"{Path(args.flight).name}: "
+    paths = write_intensity_map(amap, out, meta, title)
+    if cal is not None and args.calibrate_on:
+        write_json(cal, out / "calibration.json")
+        paths["calibration"] = out / "calibration.json"
+    summary["files"] = {k: str(v) for k, v in paths.items()}
+    write_json(summary, out / "summary.json")
+    return summary
