@@ -102,3 +102,27 @@ def test_filter_prediction_chooses_the_slots_by_nis():
     np.testing.assert_allclose(got, p, atol=1e-6)
     assert r.resolved == 1
     assert not ekf.in_dropout(0.1) and ekf.in_dropout(1.0)
+
+
+def test_a_choice_without_a_clear_winner_stays_doubtful_until_motion_confirms_it():
+    # after a long dropout the prediction fits several corrections: the best is taken,
+    # flagged ambiguous; a clear choice from that same track proves nothing; a 0.3 m move
+    # with every update accepted confirms it, a rejected update restarts the count
+    p = np.array([0.45, 0.05, 1.6])
+    px, slot = wire_peaks(p)
+    fw_px, fw_slot, valid = px - WIRE_PIXELS * slot, np.zeros(4, dtype=int), np.ones(4, bool)
+    r = SlotResolver(confirm_move_m=0.3)
+    far = np.array([0.0, 0.0, 50.0])  # a prediction that explains nothing
+    r.position(fw_px, fw_slot, valid, choose=lambda c: 1e-3 * np.linalg.norm(c - far, axis=1))
+    assert r.ambiguous and r.ambiguous_choices == 1
+    r.position(fw_px, fw_slot, valid, choose=lambda c: np.linalg.norm(c - p, axis=1) * 1e3)
+    assert r.ambiguous  # clear, but on the doubtful track
+    r.confirm(p + [0.0, 0.0, 0.2], accepted=True)
+    assert r.ambiguous
+    r.confirm(p + [0.0, 0.0, 0.25], accepted=False)  # gated: start again from here
+    r.confirm(p + [0.0, 0.0, 0.5], accepted=True)
+    assert r.ambiguous
+    r.confirm(p + [0.0, 0.0, 0.56], accepted=True)
+    assert not r.ambiguous
+    r.position(fw_px, fw_slot, valid, choose=lambda c: np.linalg.norm(c - p, axis=1) * 1e3)
+    assert not r.ambiguous  # a clear choice on a confirmed track

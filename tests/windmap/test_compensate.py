@@ -42,6 +42,22 @@ def test_a_marker_turned_on_the_pole_needs_only_the_mount():
         compensate(df, meta, mount_quat_wxyz=(1.0, 1.0, 0.0, 0.0))
 
 
+def test_marker_pose_rows_without_a_valid_track_are_left_out():
+    # dead reckoning (marker_valid 0) is metres off within seconds: not mapped with
+    n = 6
+    df = pd.DataFrame({"t_s": np.arange(n) * 0.01, "anemo_u_m_s": 1.0, "anemo_v_m_s": 0.0,
+                       "anemo_w_m_s": 0.0,
+                       **{f"marker_pos_{a}_m": 0.0 for a in "ned"},
+                       **{f"marker_vel_{a}_m_s": 0.0 for a in "ned"},
+                       **{f"marker_{a}_rad": 0.0 for a in ("roll", "pitch", "yaw")},
+                       **{f"marker_{a}_rad_s": 0.0 for a in "pqr"},
+                       "marker_valid": [1.0, 1.0, 0.0, 0.0, 1.0, 0.0]})
+    assert compensate(df).t.size == 3
+    df["marker_valid"] = 0.0
+    with pytest.raises(WindMapError, match="marker_valid"):
+        compensate(df)
+
+
 def test_lever_arm_moves_the_sample_position_and_adds_omega_cross_r():
     # one sample, yawed 90 deg, spinning at r = 1 rad/s about z, anemometer 1 m ahead
     df = pd.DataFrame({"t_s": [0.0, 0.01], "anemo_u_m_s": [0.0, 0.0],

@@ -107,10 +107,14 @@ def marker_pose_columns(streams: Mapping, t_rows: np.ndarray,
     peaks = streams[LOSA_PEAKS]
     _, seen = triangulate(peaks.data["peak_px"], peaks.data["slot"],
                           (peaks.data["sensor_flags"] & SENSOR_FLAG_VALID) != 0)
-    t_seen = np.sort(np.asarray(peaks.t_s, float)[seen])
+    t_seen = np.asarray(peaks.t_s, float)[seen]
+    # frames fused on an ambiguous slot re-acquisition (after a long dropout) may put the
+    # marker metres away, self-consistently: not LOSA-aided as far as validity goes
+    t_seen = np.sort(np.setdiff1d(t_seen, track.unresolved_t_s))
     valid = coverage(t, t_rows, MARKER_IMU_MAX_GAP_S) & coverage(t_seen, t_rows, LOSA_MAX_GAP_S)
     cols["marker_valid"] = valid.astype(float)
     meta = {"source": "pose EKF + RTS smoother (tracking.offline)", **placement.to_dict(),
             "track_start_s": float(t[0]), "track_end_s": float(t[-1]), "samples": int(t.size),
-            "gyro_bias_frd_rad_s": bias.tolist(), "valid_fraction": float(valid.mean())}
+            "gyro_bias_frd_rad_s": bias.tolist(), "valid_fraction": float(valid.mean()),
+            "unresolved_losa_frames": int(track.unresolved_t_s.size)}
     return cols, meta

@@ -192,12 +192,29 @@ class SlotResolver:
     re-acquisition (`choose` given) every per-module slot correction that keeps the slots
     in -1..+1 is triangulated and the one the filter's prediction finds most likely is
     kept; the corrections then apply to every later frame (the firmware's own slot
-    changes are relative) until the next re-acquisition re-evaluates them."""
+    changes are relative) until the next re-acquisition re-evaluates them.
 
-    def __init__(self, geometry: LosaGeometry = DEFAULT_GEOMETRY) -> None:
+    After a long dropout the prediction has drifted (IMU dead reckoning: metres within
+    seconds) and several corrections fit it about equally: the best is still taken, but
+    the resolver is `ambiguous` (the second best within `ambiguity_nis` of the best).
+    A wrong choice is then self-consistent while the marker stands still; motion tells:
+    the wrong slots rotate the track by tens of degrees about the tracker, so a move the
+    IMU measures does not match and the updates are gated until a re-acquisition from a
+    short dropout decides clearly. The caller confirms a choice (`confirm()`) once the
+    track has moved `confirm_move_m` with every update accepted (`run_pose_ekf`); until
+    then the fused frames are not trustworthy (`record.marker_pose` leaves them out of
+    `marker_valid`)."""
+
+    def __init__(self, geometry: LosaGeometry = DEFAULT_GEOMETRY,
+                 ambiguity_nis: float = 20.0, confirm_move_m: float = 0.3) -> None:
         self.geometry = geometry
+        self.ambiguity_nis = float(ambiguity_nis)
+        self.confirm_move_m = float(confirm_move_m)
+        self.ambiguous_at: np.ndarray | None = None  # the position of the open choice
         self.shift = (0, 0, 0, 0)
         self.resolved = 0  # re-acquisitions that changed the corrections
+        self.ambiguous = False
+        self.ambiguous_choices = 0  # re-acquisitions decided without a clear winner
 
     def candidates(self, peak_px, slot, valid) -> tuple[np.ndarray, np.ndarray]:
         """(corrections (K, 4) int, positions (K, 3)) of every correction combination
@@ -218,6 +235,17 @@ class SlotResolver:
         keep = ok & (pos[:, 2] > 0.0)
         return shifts[keep], pos[keep]
 
+    def confirm(self, pos_ref_m, accepted: bool) -> None:
+        """Track the open ambiguous choice: a rejected update restarts the count; a move
+        of `confirm_move_m` from the choice's position, every update accepted, confirms it."""
+        if not self.ambiguous or self.ambiguous_at is None:
+            return
+        if not accepted:
+            self.ambiguous_at = np.array(pos_ref_m, dtype=float)
+        elif (np.linalg.norm(np.asarray(pos_ref_m, float) - self.ambiguous_at)
+              >= self.confirm_move_m):
+            self.ambiguous, self.ambiguous_at = False, None
+
     def position(self, peak_px, slot, valid, choose=None):
         """The frame's position (3,) with the kept corrections, or None; `choose` (a
         function of candidate positions (K, 3) -> cost (K,)) re-evaluates them first."""
@@ -225,7 +253,18 @@ class SlotResolver:
             shifts, pos = self.candidates(peak_px, slot, valid)
             if shifts.shape[0] == 0:
                 return None
-            best = int(np.argmin(choose(pos)))
+            cost = np.asarray(choose(pos), dtype=float)
+            best = int(np.argmin(cost))
+            runner_up = np.partition(cost, 1)[1] if cost.size > 1 else np.inf
+            ambiguous = bool(runner_up - cost[best] < self.ambiguity_nis)
+            if ambiguous:
+                self.ambiguous = True
+                self.ambiguous_choices += 1
+                self.ambiguous_at = np.array(pos[best], dtype=float)
+            elif self.ambiguous:
+                # a clear decision on a doubtful track proves nothing by itself (the
+                # prediction came from that track): the confirmation restarts from it
+                self.ambiguous_at = np.array(pos[best], dtype=float)
             new = tuple(int(v) for v in shifts[best])
             if new != self.shift:
                 self.shift = new

@@ -10,6 +10,7 @@ Streams (`record.export.recording_streams`, "<board>/<message>" -> `MessageTable
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 
 import numpy as np
@@ -74,4 +75,6 @@ def track_streams(streams: Mapping, config: PoseEkfConfig | None = None,
                          arms[sel], losa_peaks=(peaks.data["peak_px"][sel],
                                                 peaks.data["slot"][sel], valid[sel]),
                          resolver=SlotResolver())
-    return rts_smooth(ekf) if smooth else track
+    if not smooth:
+        return track
+    return dataclasses.replace(rts_smooth(ekf), unresolved_t_s=track.unresolved_t_s)

@@ -53,7 +53,7 @@ with the velocity-corrected model h = p - v lag + R l, older ones are rejected.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from filterpy.kalman import KalmanFilter
@@ -169,7 +169,9 @@ class UpdateResult:
 class PoseTrack:
     """The filter over a stream, at each IMU sample (N): `t_s` (N,), `pos_ref_m`,
     `vel_ref_m_s` (N, 3), `quat_wxyz` (N, 4), `pos_sigma_m` (N, 3); and per LOSA frame
-    (M): `losa_t_s` (M,), `losa_outcome` (M,) str, `losa_nis` (M,)."""
+    (M): `losa_t_s` (M,), `losa_outcome` (M,) str, `losa_nis` (M,); `unresolved_t_s`:
+    times of the LOSA frames fused while the slot re-acquisition was ambiguous
+    (`losa.SlotResolver`)."""
 
     t_s: np.ndarray
     pos_ref_m: np.ndarray
@@ -179,6 +181,7 @@ class PoseTrack:
     losa_t_s: np.ndarray
     losa_outcome: np.ndarray
     losa_nis: np.ndarray
+    unresolved_t_s: np.ndarray = field(default_factory=lambda: np.empty(0))
 
 
 @dataclass
@@ -445,6 +448,7 @@ def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_p
     out_q, out_sig = np.empty((n, 4)), np.empty((n, 3))
     outcome = np.full(losa_t.size, "missing", dtype=object)
     nis = np.full(losa_t.size, np.nan)
+    unresolved = np.zeros(losa_t.size, bool)
     # LOSA frame j is applied after every IMU sample with t <= losa_t[j].
     after = np.searchsorted(imu_t, losa_t, side="right")
     j = 0
@@ -464,13 +468,17 @@ def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_p
                 if z is not None:
                     res = ekf.update_position(losa_t[j], z, R, arm)
                     outcome[j], nis[j] = res.outcome, res.nis
+                    if resolver is not None:
+                        unresolved[j] = resolver.ambiguous
+                        resolver.confirm(z, res.outcome == "accepted")
             j += 1
         if i == n:
             break
         ekf.predict(imu_t[i], gyro[i], accel[i])
         out_pos[i], out_vel[i], out_q[i] = ekf.pos, ekf.vel, ekf.quat
         out_sig[i] = np.sqrt(np.diag(ekf.P)[P_])
-    return PoseTrack(imu_t, out_pos, out_vel, out_q, out_sig, losa_t, outcome.astype(str), nis)
+    return PoseTrack(imu_t, out_pos, out_vel, out_q, out_sig, losa_t, outcome.astype(str), nis,
+                     losa_t[unresolved])
 
 
 __all__ = ["PoseEkf", "PoseEkfConfig", "PoseTrack", "UpdateResult", "run_pose_ekf"]

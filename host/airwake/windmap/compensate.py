@@ -99,7 +99,8 @@ def mount_matrix(quat_wxyz) -> np.ndarray:
 def compensate(df, metadata: dict | None = None, *, pose: str = "auto",
                lever_arm_m=None, mount_quat_wxyz=None) -> CompensatedSamples:
     """The table's anemometer samples in the site NED frame (module docstring). Rows with
-    `anemo_valid` 0 (no anemometer sample there) are left out."""
+    `anemo_valid` 0 (no anemometer sample there) are left out, and with the marker pose
+    rows with `marker_valid` 0 (docs/flight-table.md)."""
     from airwake.record.flight_builder import euler_to_dcm
 
     check_anemometer(df)
@@ -122,6 +123,13 @@ def compensate(df, metadata: dict | None = None, *, pose: str = "auto",
         keep = np.asarray(df["anemo_valid"], float) > 0.5
     if not keep.any():
         raise WindMapError("the table has no valid anemometer sample (anemo_valid is 0)")
+    if source == "marker" and "marker_valid" in df.columns:
+        # dead reckoning (the marker out of the tracker's view) or an unconfirmed slot
+        # re-acquisition: metres off within seconds, not a pose to map with
+        keep &= np.asarray(df["marker_valid"], float) > 0.5
+        if not keep.any():
+            raise WindMapError("no row has both an anemometer sample and a valid marker "
+                               "pose (marker_valid is 0 wherever anemo_valid is 1)")
 
     def block(names):
         return np.column_stack([np.asarray(df[c], float)[keep] for c in names])
