@@ -37,6 +37,10 @@ class FeatureConfig:
     rate_lag_samples: previous body rates fed back (§2.2.2, "recurrent"); for the rate
         target it must be >= 1 (0 would hand the answer to the net); for the angular
         acceleration target 0 means the current rates (§4.3, eq 4.10).
+    rate_history_samples: how many past samples of each rate are fed back: lags
+        rate_lag_samples ... rate_lag_samples + rate_history_samples - 1 (1: the lagged
+        rate alone, as the reference). More lags let a linear model (and the net's ARX
+        part) track a periodic signal on the gyro: the T-REX 550's 34 Hz rotor 1/rev.
     use_attitude: roll and pitch angles as inputs (gravity / tilt terms).
     use_rate_lowpass: also the causal low-pass (eq 2.3, the inputs' sigma and length) of
         the lagged rates: a real gyro's sample-to-sample noise (the T-REX 550 log: as
@@ -48,6 +52,7 @@ class FeatureConfig:
     lowpass_length_s: float = 0.15
     std_window_s: float = 0.5
     rate_lag_samples: int = 1
+    rate_history_samples: int = 1
     use_lowpass: bool = True
     use_std: bool = True
     use_attitude: bool = True
@@ -64,6 +69,10 @@ class FeatureConfig:
         if int(self.rate_lag_samples) != self.rate_lag_samples or self.rate_lag_samples < 0:
             raise ValueError(f"FeatureConfig.rate_lag_samples must be an integer >= 0, got "
                              f"{self.rate_lag_samples!r}")
+        n = self.rate_history_samples
+        if int(n) != n or n < 1:
+            raise ValueError(f"FeatureConfig.rate_history_samples must be an integer >= 1, got "
+                             f"{n!r}")
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -80,7 +89,7 @@ class FeatureConfig:
     def history_s(self, rate_hz: float) -> float:
         """How far back the features reach: the split's guard at each block start."""
         longest = max(self.line_window_s, self.lowpass_length_s, self.std_window_s)
-        return longest + (self.rate_lag_samples + 1) / rate_hz
+        return longest + (self.rate_lag_samples + self.rate_history_samples) / rate_hz
 
 
 def _trailing_windows(y: np.ndarray, n: int) -> np.ndarray:
@@ -165,8 +174,9 @@ def build_features(inputs, roll, pitch, rates, rate_hz: float, config: FeatureCo
     inputs (T, 4) pilot inputs in INPUT_CHANNELS order; roll, pitch (T,) rad; rates
     (T, 3) rad/s (p, q, r). Returns (X (T, F), names (F,)). Per input channel: line
     slope, intercept, error (eqs 2.1-2.2), then optionally the causal low-pass (eq 2.3)
-    and the local std; then roll, pitch; then p, q, r delayed by rate_lag_samples and
-    optionally their causal low-pass. The lagged rates are the last three columns.
+    and the local std; then roll, pitch; then (rate_history_samples > 1) p, q, r at the
+    further lags, oldest first; then the causal low-pass of the lagged rates (optional)
+    and p, q, r delayed by rate_lag_samples: the lagged rates are the last three columns.
     """
     inputs = np.asarray(inputs, dtype=float)
     cols, names = [], []
@@ -186,7 +196,11 @@ def build_features(inputs, roll, pitch, rates, rate_hz: float, config: FeatureCo
     if config.use_attitude:
         cols += [np.asarray(roll, float), np.asarray(pitch, float)]
         names += ["roll", "pitch"]
-    prev = lagged(rates, int(config.rate_lag_samples))
+    lag = int(config.rate_lag_samples)
+    prev = lagged(rates, lag)
+    for extra in range(lag + int(config.rate_history_samples) - 1, lag, -1):
+        cols += list(lagged(rates, extra).T)
+        names += [f"{r}_lag{extra}" for r in RATE_NAMES]
     if config.use_rate_lowpass:
         lp = gaussian_lowpass(prev, rate_hz, config.lowpass_sigma_s, config.lowpass_length_s)
         cols += list(lp.T)

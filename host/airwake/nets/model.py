@@ -130,15 +130,26 @@ def _mlp(n_in: int, hidden) -> nn.Sequential:
     return nn.Sequential(*layers)
 
 
-def fit_arx(z: np.ndarray, y: np.ndarray, ridge: float = 1e-3) -> np.ndarray:
+def fit_arx(z: np.ndarray, y: np.ndarray, ridge=1e-3) -> np.ndarray:
     """Least squares y ~ [z, 1] W^T on standardised data, (N, F), (N, K) -> W (K, F+1),
     with a ridge penalty ridge * N * |A|^2 on the weights (not the bias): the line-fit
     intercepts and the low-passed inputs are nearly collinear, and unpenalised their
-    large opposite coefficients extrapolate badly."""
+    large opposite coefficients extrapolate badly. `ridge` is one value or one per output
+    (train.choose_arx_ridge picks them on the validation blocks)."""
     a = np.column_stack([z, np.ones(len(z))])
-    reg = ridge * len(z) * np.eye(a.shape[1])
-    reg[-1, -1] = 0.0
-    return np.linalg.solve(a.T @ a + reg, a.T @ y).T
+    gram, rhs = a.T @ a, a.T @ y
+
+    def solve(r: float, b: np.ndarray) -> np.ndarray:
+        reg = r * len(z) * np.eye(a.shape[1])
+        reg[-1, -1] = 0.0
+        return np.linalg.solve(gram + reg, b)
+
+    if np.ndim(ridge) == 0:
+        return solve(float(ridge), rhs).T
+    ridges = [float(r) for r in ridge]
+    if len(ridges) != y.shape[1]:
+        raise ValueError(f"fit_arx: {len(ridges)} ridge values for {y.shape[1]} outputs")
+    return np.array([solve(r, rhs[:, k]) for k, r in enumerate(ridges)])
 
 
 def save_net(net: PilotNet, path) -> Path:

@@ -26,6 +26,9 @@ from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, block_split
 
 OUTPUTS = {"rates": ("p_rad_s", "q_rad_s", "r_rad_s"), "accel": ("pdot_rad_s2", "qdot_rad_s2")}
 DEFAULT_RATE_LAG = {"rates": 1, "accel": 0}
+TRAIN_TARGETS = ("measured", "lowpass")
+# ridge values (x N, standardised weights) tried per axis when arx_ridge="val"
+ARX_RIDGE_GRID = (1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1)
 
 # eq 4.11 as the reference wrote it for the networks (§4.3.2): inertia m, C1, C2
 PSO_INERTIA, PSO_C1, PSO_C2 = 0.2, 0.1, 0.2
@@ -38,6 +41,10 @@ class AdamWConfig:
     batch_size: int = 256
     max_epochs: int = 300
     patience: int = 25
+    # per_axis: each output axis keeps the weights of its own best validation epoch (its
+    # skip row and its MLP touch that axis only), so no axis ends worse on validation than
+    # its ARX start; stop when no axis has improved for `patience` epochs
+    per_axis: bool = False
 
 
 @dataclass(frozen=True)
@@ -61,6 +68,9 @@ class Dataset:
     labels: np.ndarray  # (N,) TRAIN / VAL / TEST / GUARD
     names: list[str]
     flights: list[dict] = field(default_factory=list)
+    # (N, K) the same low-pass within each run of one set (train_target="lowpass"): the
+    # centred kernel never reads across a block boundary into another set's rows
+    y_lp_sets: np.ndarray | None = None
 
 
 def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
@@ -80,13 +90,14 @@ def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
 
 def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfig,
                   rng) -> Dataset:
-    xs, ys, lps, ps, ls, meta, names = [], [], [], [], [], [], []
+    xs, ys, lps, lss, ps, ls, meta, names = [], [], [], [], [], [], [], []
     for f in flights:
         x, names, y, prev = flight_features(f, target, config)
         labels = block_split(f.t_s, split, config.history_s(f.rate_hz), rng)
         xs.append(x)
         ys.append(y)
         lps.append(smoothed_target(y, f.rate_hz))
+        lss.append(lowpass_within_sets(y, labels, f.rate_hz))
         ps.append(prev)
         ls.append(labels)
         meta.append({"path": f.source, "fingerprint": f.fingerprint, "rows": len(f),
@@ -97,7 +108,17 @@ def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfi
                         for k, v in (("train", TRAIN), ("val", VAL), ("test", TEST))}})
     prev = None if target == "accel" else np.concatenate(ps)
     return Dataset(np.concatenate(xs), np.concatenate(ys), np.concatenate(lps), prev,
-                   np.concatenate(ls), names, meta)
+                   np.concatenate(ls), names, meta, np.concatenate(lss))
+
+
+def lowpass_within_sets(y: np.ndarray, labels: np.ndarray, rate_hz: float) -> np.ndarray:
+    """smoothed_target applied to each run of equal labels on its own (edge-padded at
+    the run's ends), so a training or validation target never reads a test row."""
+    out = np.empty_like(np.asarray(y, dtype=float))
+    change = np.flatnonzero(np.diff(labels)) + 1
+    for a, b in zip(np.r_[0, change], np.r_[change, len(labels)], strict=True):
+        out[a:b] = smoothed_target(y[a:b], rate_hz)
+    return out
 
 
 def _rle(labels: np.ndarray) -> list[list[int]]:
@@ -123,6 +144,8 @@ def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: to
         with torch.no_grad():
             return float(((net.forward_standard(z_va) - y_va) ** 2).mean())
 
+    if cfg.per_axis:
+        return _train_adamw_per_axis(net, opt, z_tr, y_tr, z_va, y_va, cfg, gen, progress)
     best = val_loss()
     best_state = {k: v.clone() for k, v in net.state_dict().items()}
     best_epoch, history = 0, [best]
@@ -148,6 +171,77 @@ def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: to
     net.load_state_dict(best_state)
     return {"epochs_run": len(history) - 1, "best_epoch": best_epoch,
             "best_val_mse_standard": best, "val_history": [round(h, 6) for h in history]}
+
+
+def _epoch(net: PilotNet, opt, z_tr, y_tr, batch_size: int, gen) -> None:
+    net.train()
+    perm = torch.randperm(z_tr.shape[0], generator=gen)
+    for i in range(0, z_tr.shape[0], batch_size):
+        idx = perm[i:i + batch_size]
+        opt.zero_grad()
+        loss = ((net.forward_standard(z_tr[idx]) - y_tr[idx]) ** 2).mean()
+        loss.backward()
+        opt.step()
+    net.eval()
+
+
+def _axis_state(net: PilotNet, k: int) -> dict:
+    """The parameters that act on output k only: its skip row and its MLP."""
+    return {"skip_w": net.skip.weight[k].detach().clone(),
+            "skip_b": net.skip.bias[k].detach().clone(),
+            "mlp": {n: t.detach().clone() for n, t in net.mlps[k].state_dict().items()}}
+
+
+def _set_axis_state(net: PilotNet, k: int, st: dict) -> None:
+    with torch.no_grad():
+        net.skip.weight[k].copy_(st["skip_w"])
+        net.skip.bias[k].copy_(st["skip_b"])
+    net.mlps[k].load_state_dict(st["mlp"])
+
+
+def _train_adamw_per_axis(net: PilotNet, opt, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig,
+                          gen, progress=None) -> dict:
+    """train_adamw with early stopping per output axis (AdamWConfig.per_axis)."""
+    k_out = net.n_outputs
+
+    def val_losses() -> np.ndarray:
+        with torch.no_grad():
+            return ((net.forward_standard(z_va) - y_va) ** 2).mean(dim=0).double().numpy()
+
+    best = val_losses()
+    best_states = [_axis_state(net, k) for k in range(k_out)]
+    best_epochs, history = np.zeros(k_out, dtype=int), [float(best.mean())]
+    for epoch in range(1, cfg.max_epochs + 1):
+        _epoch(net, opt, z_tr, y_tr, cfg.batch_size, gen)
+        v = val_losses()
+        history.append(float(v.mean()))
+        for k in np.flatnonzero(v < best):
+            best[k], best_epochs[k] = v[k], epoch
+            best_states[k] = _axis_state(net, int(k))
+        if progress is not None:
+            progress.update(epoch, f"val {v.mean():.4g} (best per axis at {best_epochs.tolist()})")
+        if epoch - int(best_epochs.max()) >= cfg.patience:
+            break
+    for k in range(k_out):
+        _set_axis_state(net, k, best_states[k])
+    return {"epochs_run": len(history) - 1, "best_epoch": int(best_epochs.max()),
+            "best_epoch_per_axis": best_epochs.tolist(),
+            "best_val_mse_standard": float(best.mean()),
+            "val_history": [round(h, 6) for h in history]}
+
+
+def choose_arx_ridge(z_tr, y_tr, z_va, y_va, grid=ARX_RIDGE_GRID):
+    """Per output axis, the ridge of `grid` whose ARX fit on the training rows has the
+    smallest validation RMS (standardised data; the test rows are not read).
+    Returns (ridges per axis, {ridge: [val RMS per axis]})."""
+    a_va = np.column_stack([z_va, np.ones(len(z_va))])
+    table = {}
+    for r in grid:
+        w = fit_arx(z_tr, y_tr, r)
+        table[float(r)] = np.sqrt(((a_va @ w.T - y_va) ** 2).mean(axis=0))
+    rms = np.array([table[float(r)] for r in grid])
+    ridges = [float(grid[i]) for i in rms.argmin(axis=0)]
+    return ridges, {str(r): [round(float(v), 6) for v in table[float(r)]] for r in grid}
 
 
 def _flat(net: PilotNet) -> np.ndarray:
@@ -234,16 +328,32 @@ def train_pso(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: PSOConfig, rng, progre
 def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int = 0,
               features: FeatureConfig | None = None, split: SplitConfig | None = None,
               hidden=(16, 8), adamw: AdamWConfig | None = None, pso: PSOConfig | None = None,
-              progress: bool = False, threads: int = 1) -> PilotNet:
+              progress: bool = False, threads: int = 1, train_target: str = "measured",
+              arx_ridge: float | str = 1e-3) -> PilotNet:
     """Train a pilot-compensation net on `flights` (NetFlight list); returns it with its
     model card (`net.card`: features, windows, flights and their split, metrics on the
-    held-out test blocks for the net, the ARX baseline and persistence, versions)."""
+    held-out test blocks for the net, the ARX baseline and persistence, versions).
+
+    train_target: "measured" (the logged target) or "lowpass" (it low-passed with
+        metrics.SCORE_LOWPASS, the centred eq 2.3, within each run of one set so no target
+        reads a test row; the target only, the features stay causal): where the gyro
+        carries rotor vibration, fit the dynamics, not the tone.
+        Net, ARX and early stopping all use it; scores are against both as always.
+    arx_ridge: the ARX ridge (x N on standardised weights), or "val": per axis the value of
+        ARX_RIDGE_GRID with the smallest validation RMS (card: arx_ridge, arx_ridge_val).
+    """
     if target not in OUTPUTS:
         raise ValueError(f"target must be one of {tuple(OUTPUTS)}, got {target!r}")
     if trainer not in ("adamw", "pso"):
         raise ValueError(f"trainer must be 'adamw' or 'pso', got {trainer!r}")
     if not flights:
         raise ValueError("train_net needs at least one flight")
+    if train_target not in TRAIN_TARGETS:
+        raise ValueError(f"train_target must be one of {TRAIN_TARGETS}, got {train_target!r}")
+    if isinstance(arx_ridge, str) and arx_ridge != "val":
+        raise ValueError(f"arx_ridge must be a number >= 0 or 'val', got {arx_ridge!r}")
+    if not isinstance(arx_ridge, str) and not (np.isfinite(arx_ridge) and arx_ridge >= 0):
+        raise ValueError(f"arx_ridge must be a number >= 0 or 'val', got {arx_ridge!r}")
     sources = {f.input_source for f in flights}
     if len(sources) > 1:
         raise ValueError(f"flights mix pilot-input sources {sorted(sources)}: "
@@ -268,11 +378,18 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
                              "smaller blocks)")
         # the rate target learns the change since the fed-back rates (the last 3 features)
         base = None if target == "accel" else [ds.x.shape[1] - 3 + k for k in range(3)]
+        y_fit = ds.y if train_target == "measured" else ds.y_lp_sets
         net = PilotNet(ds.x.shape[1], ds.y.shape[1], hidden, base)
-        net.set_scaling(ds.x[tr], ds.y[tr])
+        net.set_scaling(ds.x[tr], y_fit[tr])
         z = net.standardise(ds.x)
-        ystd = net.standardise_target(ds.x, ds.y)
-        net.set_arx(fit_arx(z[tr].double().numpy(), ystd[tr].double().numpy()))
+        ystd = net.standardise_target(ds.x, y_fit)
+        z_np, y_np = z.double().numpy(), ystd.double().numpy()
+        ridge_val = None
+        if arx_ridge == "val":
+            ridges, ridge_val = choose_arx_ridge(z_np[tr], y_np[tr], z_np[va], y_np[va])
+        else:
+            ridges = float(arx_ridge)
+        net.set_arx(fit_arx(z_np[tr], y_np[tr], ridges))
         bar = None
         if progress:
             from airwake.progress import Progress
@@ -304,6 +421,9 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
         "input_source": flights[0].input_source,
         "input_columns": list(INPUT_SOURCES[flights[0].input_source]),
         "rate_hz": float(np.mean(rates)), "trainer": trainer, "trainer_settings": settings,
+        "train_target": train_target,
+        "arx_ridge": ridges if isinstance(ridges, list) else [ridges] * ds.y.shape[1],
+        **({"arx_ridge_val": ridge_val} if ridge_val is not None else {}),
         "training": info, "seed": int(seed), "training_flights": ds.flights, "metrics": metrics,
         "train_seconds": round(time.perf_counter() - t0, 3), "versions": versions(),
     }
