@@ -45,7 +45,7 @@ def _rss_mb(pid: int) -> float:
 
 
 def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
-            poll_ms: float = 5.0, track: bool = True) -> dict:
+            poll_ms: float = 5.0, track: bool = True, net: str | None = None) -> dict:
     with tempfile.TemporaryDirectory(prefix="airwake-bench-") as tmp:
         run = Path(tmp)
         boards = subprocess.Popen([sys.executable, "-m", "airwake.daemon.fake_boards", str(run),
@@ -62,6 +62,8 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
                    "--quiet", "--status-json", str(status), "--segment-s", "30",
                    "--poll-ms", str(poll_ms),
                    "--duration", str(duration_s + warmup_s + 5)] + ([] if track else ["--no-track"])
+            if net is not None:  # a rate net: live A_ω on the rover INS (docs/networks.md)
+                cmd += ["--net", str(net)]
             for role in ("losa", "marker", "base"):
                 cmd += ["--port", f"{role}={run / role}"]
             daemon = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)

@@ -57,7 +57,8 @@ def _handle(args: argparse.Namespace) -> int:
         ports=[PortSpec.parse(p) for p in args.port], out=Path(args.out),
         status_json=args.status_json, duration_s=args.duration, view=not args.quiet,
         poll_s=args.poll_ms / 1000.0, marker_rate_hz=args.marker_rate_hz,
-        track=not args.no_track, segment_s=args.segment_s, record_metadata=meta)
+        track=not args.no_track, net=args.net, segment_s=args.segment_s,
+        record_metadata=meta)
     return Daemon(opts).run()
 
 
@@ -85,6 +86,9 @@ def register(subparsers) -> None:
     p.add_argument("--no-track", action="store_true",
                    help="no live pose EKF (by default it runs once the marker and LOSA "
                    "send frames, records /host/pose and gives the marker loop its position)")
+    p.add_argument("--net", metavar="NET.pt", default=None,
+                   help="a rate net (airwake nets train): live airwake intensity A_ω per "
+                   "rover INS sample, recorded on /host/airwake_intensity (docs/networks.md)")
     p.add_argument("--segment-s", type=float, default=600.0,
                    help="start a new MCAP segment every S seconds (default 600)")
     g = p.add_argument_group("geometry for the export (stored in the recording's metadata)")

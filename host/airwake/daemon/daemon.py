@@ -16,7 +16,9 @@ every 0.5 s a `time_sync_request` (NTP-style: the board's reply gives the two-si
 fit) and every 0.25 s one of the host's `schema_entry` announcements. With a marker and a
 LOSA tracker present, `marker_command` at 60 Hz to the marker's port, and (unless
 `track` is off) the live pose EKF (`tracking.live`) on the marker IMU and LOSA peaks,
-recorded on `/host/pose` and feeding the marker loop's position.
+recorded on `/host/pose` and feeding the marker loop's position. With `net` (a rate
+net, `airwake nets train`), the live airwake intensity (`nets.live`) on the rover's INS
+and the base's pilot inputs, A_ω per INS sample recorded on `/host/airwake_intensity`.
 """
 
 from __future__ import annotations
@@ -40,11 +42,13 @@ from airwake.link.messages import (
     BY_ID,
     HEARTBEAT,
     IMU,
+    INS,
     LOG_TEXT,
     LOSA_PEAKS,
     LOSA_RAW_REQUEST,
     MARKER_ATTITUDE,
     MARKER_COMMAND,
+    PILOT_INPUTS,
     SCHEMA_ENTRY,
     SCHEMA_HASH,
     STAMP_LATENCY,
@@ -57,7 +61,7 @@ from airwake.link.serial_port import PortSpec, SerialPort
 from airwake.record.recording import RecordingError, RecordingWriter, encode_decoded
 
 HOST_SENT_IDS = (SCHEMA_ENTRY.id, TIME_SYNC_REQUEST.id, MARKER_COMMAND.id, LOSA_RAW_REQUEST.id)
-LOSA_ID, MARKER_ID = 1, 2
+LOSA_ID, MARKER_ID, ROVER_ID, BASE_ID = 1, 2, 3, 4
 BOARD_ALIVE_S = 3.0  # a board whose heartbeat is older is not "present" for the marker loop
 
 
@@ -76,6 +80,7 @@ class DaemonOptions:
     status_period_s: float = 1.0
     marker_rate_hz: float = 60.0
     track: bool = True  # the live pose EKF (runs once marker and LOSA frames arrive)
+    net: str | None = None  # a rate net (.pt): live A_ω on /host/airwake_intensity
     flush_s: float = 0.25
     segment_s: float = 600.0
     record_metadata: dict = field(default_factory=dict)  # e.g. antenna offsets
@@ -127,6 +132,19 @@ class Daemon:
             from airwake.tracking.live import LiveTracker
 
             self.tracker = LiveTracker()
+        self.intensity = None
+        net_meta = {}
+        if options.net:
+            from airwake.nets.live import LiveIntensity
+            from airwake.nets.model import load_net
+
+            self.intensity = LiveIntensity(load_net(options.net))
+            card = self.intensity.net.card
+            net_meta = {"live_net": {
+                "path": str(options.net), "target": card["target"],
+                "input_source": card["input_source"], "rate_hz": card["rate_hz"],
+                "training_flights": [f.get("path") for f in card.get("training_flights", [])],
+                "intensity": self.intensity.config.to_dict()}}
         self.recorder = RecordingWriter(options.out, {
             "daemon_version": __version__,
             "schema_hash": f"0x{SCHEMA_HASH:08X}",
@@ -137,6 +155,7 @@ class Daemon:
             "host_clock": "CLOCK_MONOTONIC",
             "ports": [{"role": s.role, "device": s.device, "baud": s.baud}
                       for s in options.ports],
+            **net_meta,
             **options.record_metadata,
         }, flush_s=options.flush_s, segment_s=options.segment_s)
         self._stop = False
@@ -202,6 +221,8 @@ class Daemon:
                 self._read(key.data)
             if self.tracker is not None:
                 self._track()
+            if self.intensity is not None:
+                self._airwake_intensity()
             self._periodic(time.monotonic())
             self._reap_lost()
             spare = poll - (time.monotonic() - t0)
@@ -275,6 +296,12 @@ class Daemon:
         elif mid == IMU.id:
             if self.tracker is not None and origin == MARKER_ID:
                 self.tracker.on_imu(mapped_us * 1e-6, f.msg)
+        elif mid == INS.id:
+            if self.intensity is not None and origin == ROVER_ID:
+                self.intensity.on_ins(mapped_us * 1e-6, f.msg)
+        elif mid == PILOT_INPUTS.id:
+            if self.intensity is not None and origin == BASE_ID:
+                self.intensity.on_pilot_inputs(mapped_us * 1e-6, f.msg)
         elif mid == STAMP_LATENCY.id:
             if b.declare_stamp(f.msg) and b.identified:  # into the recording's board metadata
                 self.recorder.board(b.name, {**b.identity(), "first_seen_s": b.first_seen_s})
@@ -300,6 +327,21 @@ class Daemon:
         if self.tracker.started and not started:
             self.event("tracker_started", "pose EKF started from the marker's calibration and "
                        f"LOSA: position {self.tracker.status()['pos_tracker_m']} m")
+
+    def _airwake_intensity(self) -> None:
+        """Run the rate net on the pending INS rows; record A_ω per sample."""
+        from airwake.nets.live import INTENSITY_SCHEMA
+
+        try:
+            samples = self.intensity.step()
+        except Exception as exc:  # noqa: BLE001 -- the net must never stop the ingest
+            self.event("intensity_failed", f"live airwake intensity: {type(exc).__name__}: "
+                       f"{exc}; it stays off, recording continues", loud=True)
+            self.intensity = None
+            return
+        for s in samples:
+            self.recorder.json("/host/airwake_intensity", int(s["t_s"] * 1e9), s,
+                               INTENSITY_SCHEMA)
 
     def _heartbeat(self, ps: PortState, b: BoardLink, hb, now_s: float) -> None:
         first = not b.identified
@@ -426,6 +468,8 @@ class Daemon:
             "marker_loop": self.marker.status(),
             **({"tracker": self.tracker.status()} if self.tracker is not None
                and self.tracker.triangulated else {}),
+            **({"airwake_intensity": self.intensity.status()} if self.intensity is not None
+               else {}),
             "events": list(self.events)[-5:],
         }
 

@@ -1,0 +1,145 @@
+"""A rate net live on the daemon's ingest timeline: A_ω per rover INS sample (docs/daemon.md
+"Live airwake intensity", docs/networks.md).
+
+Inputs, each with its host-timeline time (the board stamp mapped by `link.clock`):
+- base `pilot_inputs` (50 Hz): the pilot's RC pulse widths, turned into blade pitch by
+  the rigging (`record.rigging`) as the flight builder does; the latest valid frame is
+  held (the export interpolates between frames: at 50 Hz the two differ by < 20 ms);
+- rover `ins` (150 Hz): roll, pitch from `ypr_deg`, p, q, r from the bias-compensated
+  angular rate — one row per sample, as the flight table's rows.
+
+Rows wait in a buffer; every `batch_s` of rows `step()` computes the features
+(`nets.features`, trailing windows) over the pending rows plus the history they need,
+the net's prediction, and eq 2.4 (`nets.intensity.intensity_from_arrays`) with its
+trailing std window: the same numbers the offline `predict` + `intensity_series` give
+for those rows once the history is filled (a test checks it). Batching is the CPU
+saving: one forward pass per 15 rows instead of per row.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+import torch
+
+from airwake.nets.features import FeatureConfig, build_features
+from airwake.nets.intensity import IntensityConfig, intensity_from_arrays, samples_in
+from airwake.nets.model import NetFileError, PilotNet
+from airwake.record.rigging import BLADE_PITCH_COLUMNS, DEFAULT_RIGGING, PwmRigging
+
+_NET_ORDER = ("delta_lat_rad", "delta_lon_rad", "delta_col_rad", "delta_ped_rad")
+_FROM_RIGGING = [BLADE_PITCH_COLUMNS.index(c) for c in _NET_ORDER]
+_PWM_VALID = 0x0F  # RC channels 1..4
+
+INTENSITY_SCHEMA = {
+    "title": "airwake.airwake_intensity",
+    "description": "Live airwake intensity A_ω (eq 2.4) from the rate net given to the "
+                   "daemon with --net (docs/networks.md, docs/daemon.md)",
+    "type": "object",
+    "properties": {
+        "t_s": {"type": "number", "description": "host monotonic time of the INS sample (s)"},
+        "a_omega": {"type": "number", "description": "A_ω = (ω_s − ω_s′)·‖ω − ω′‖ (rad²/s²)"},
+        "omega_s": {"type": "number", "description": "local std of ‖ω‖ (rad/s)"},
+        "omega_s_pred": {"type": "number", "description": "local std of ‖ω′‖ (rad/s)"},
+        "resid_norm": {"type": "number", "description": "‖ω − ω′‖ (rad/s)"},
+        "resid_std": {"type": "number",
+                      "description": "norm of the residuals' local std (rad/s)"},
+        "pred_rad_s": {"type": "array", "items": {"type": "number"}, "minItems": 3,
+                       "maxItems": 3, "description": "the net's p′, q′, r′"},
+        "valid": {"type": "boolean",
+                  "description": "the features' and the std window's history filled"},
+    },
+    "required": ["t_s", "a_omega", "valid"],
+}
+
+
+class LiveIntensity:
+    """Feeds a rate `PilotNet` from live frames (module doc). `on_pilot_inputs`,
+    `on_ins` take one frame each; `step()` returns the new samples' dicts (schema above)
+    once `batch_s` of INS rows are pending."""
+
+    def __init__(self, net: PilotNet, config: IntensityConfig | None = None,
+                 rigging: PwmRigging = DEFAULT_RIGGING, batch_s: float = 0.1) -> None:
+        card = net.card
+        if card.get("target") != "rates":
+            raise NetFileError(f"--net: a {card.get('target')!r} net; live A_ω needs a rate "
+                               "net (airwake nets train --target rates)")
+        if card.get("input_source") not in ("delta", "pwm"):
+            raise NetFileError(f"--net: trained on {card.get('input_source')!r} inputs; the "
+                               "daemon has the RC pulse widths (delta or pwm nets)")
+        if not (math.isfinite(batch_s) and batch_s > 0):
+            raise ValueError(f"batch_s {batch_s!r}: must be a positive number")
+        # one thread: the daemon's loop must not wait on an intra-op pool (on a loaded
+        # 2-core machine a 2-thread forward of 100 rows took 60 ms instead of 0.3 ms)
+        torch.set_num_threads(1)
+        self.net = net
+        self.config = config or IntensityConfig()
+        self.rigging = rigging
+        self.features = FeatureConfig.from_dict(card["feature_config"])
+        self.rate_hz = float(card["rate_hz"])
+        self.use_pwm = card["input_source"] == "pwm"
+        self.n_std = samples_in(self.config.std_window_s, self.rate_hz)
+        history = int(math.ceil(self.features.history_s(self.rate_hz) * self.rate_hz)) + 1
+        self.warmup = history + self.n_std  # rows before the first valid A_ω
+        self.keep = history + self.n_std + 2  # past rows a batch needs
+        self.batch = max(1, int(round(batch_s * self.rate_hz)))
+        self.rows: deque = deque(maxlen=self.keep + 10 * self.batch)
+        self.pending = 0
+        self.seen = 0
+        self.inputs: np.ndarray | None = None
+        self.samples_out = 0
+        self.skipped = 0
+
+    def on_pilot_inputs(self, t_s: float, msg) -> None:
+        if (int(msg.valid_mask) & _PWM_VALID) != _PWM_VALID:
+            return
+        pwm = np.asarray(msg.pwm_us[:4], float)
+        self.inputs = pwm if self.use_pwm else \
+            self.rigging.pwm_to_blade_pitch(pwm)[0, _FROM_RIGGING]
+
+    def on_ins(self, t_s: float, msg) -> None:
+        if self.inputs is None:
+            self.skipped += 1
+            return
+        yaw, pitch, roll = (math.radians(v) for v in msg.ypr_deg)
+        rates = [float(v) for v in msg.angular_rate_frd_rad_s]
+        row = (t_s, *self.inputs, roll, pitch, *rates)
+        if not all(math.isfinite(v) for v in row):
+            self.skipped += 1
+            return
+        self.rows.append(row)
+        self.pending = min(self.pending + 1, len(self.rows))
+        self.seen += 1
+
+    def step(self, force: bool = False) -> list[dict]:
+        """Intensity of the pending rows when a batch is full (or `force`)."""
+        if self.pending == 0 or (self.pending < self.batch and not force):
+            return []
+        n_new = self.pending
+        a = np.asarray(self.rows, float)[-(n_new + self.keep):]
+        t, inputs, roll, pitch, rates = a[:, 0], a[:, 1:5], a[:, 5], a[:, 6], a[:, 7:10]
+        x, _ = build_features(inputs, roll, pitch, rates, self.rate_hz, self.features)
+        # only the rows eq 2.4's std window reaches need a prediction
+        m = min(len(a), n_new + self.n_std - 1)
+        t = t[-m:]
+        pred = self.net.predict_numpy(x[-m:])
+        it = intensity_from_arrays(rates[-m:], pred, self.n_std)
+        first_index = self.seen - m  # stream index of pred[0]
+        out = []
+        for i in range(m - n_new, m):
+            out.append({"t_s": float(t[i]), "a_omega": float(it["a_omega"][i]),
+                        "omega_s": float(it["omega_s"][i]),
+                        "omega_s_pred": float(it["omega_s_pred"][i]),
+                        "resid_norm": float(it["resid_norm"][i]),
+                        "resid_std": float(it["resid_std"][i]),
+                        "pred_rad_s": [float(v) for v in pred[i]],
+                        "valid": bool(first_index + i >= self.warmup)})
+        self.pending = 0
+        self.samples_out += len(out)
+        return out
+
+    def status(self) -> dict:
+        return {"samples": self.samples_out, "skipped": self.skipped,
+                "net_rate_hz": self.rate_hz, "batch": self.batch}

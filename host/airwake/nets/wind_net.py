@@ -1,0 +1,201 @@
+"""Direct wind networks (reference §4.6): the eq 5.3 local wind — mean flow v and rotation
+coefficient ω (whose roll / pitch components are the vorticities a_z, b_z of eq 4.14),
+body axes at the hub — estimated per sample from the helicopter's measured motion and the
+pilot's inputs, trained on simulated flights' truth (`truth_wind_*`).
+
+    net = train_wind_net([table_a, table_b], seed=0)     # FlightTable or path list
+    est = predict_wind(net, table)                       # t_s, wind_vx_m_s, ..., wind_wz_rad_s
+    save_net(net, "wind.pt")                             # nets.model's file and card
+
+Inputs (§4.6.2 used the swash-plate inputs, the three rates, the measured roll/pitch
+acceleration and the tilt; a wind also shows in how the helicopter moves through the
+air, so the INS body velocity and specific force join them): per pilot-input channel the
+features of `nets.features` (eq 2.1-2.3, trailing windows), roll and pitch, the current
+p, q, r and their causal low-pass, ṗ and q̇, vel_u/v/w and acc_x/y/z, each with its
+causal low-pass over `context_s` (the wind changes over seconds, the noise per sample).
+The network is `nets.model.PilotNet` (ARX skip + per-output MLP, no base column) trained
+by `nets.train.train_adamw` on a time-block split for early stopping; every row of a
+flight that is not a training flight is held out.
+
+Estimates are per sample and causal; `smooth_s` (a centred Gaussian, default 0: on the
+ship flights it raised the error, the truth wind changes within a second) smooths them.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import pandas as pd
+import torch
+
+from airwake.nets.features import FeatureConfig, build_features, gaussian_lowpass, gaussian_smooth
+from airwake.nets.model import PilotNet, fit_arx
+from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, block_split
+from airwake.record.flight_table import FlightTableError
+
+WIND_TRUTH = ("truth_wind_vx_m_s", "truth_wind_vy_m_s", "truth_wind_vz_m_s",
+              "truth_wind_wx_rad_s", "truth_wind_wy_rad_s", "truth_wind_wz_rad_s")
+WIND_OUTPUTS = tuple(c[len("truth_"):] for c in WIND_TRUTH)
+MOTION = ("pdot_rad_s2", "qdot_rad_s2", "vel_u_m_s", "vel_v_m_s", "vel_w_m_s",
+          "acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2")
+TARGET = "wind"
+
+
+@dataclass(frozen=True)
+class WindNetConfig:
+    """Feature windows (s) beyond nets.features' and the output smoothing."""
+
+    context_sigma_s: float = 0.5  # causal Gaussian low-pass of the motion channels
+    context_length_s: float = 1.5
+    smooth_s: float = 0.0  # centred Gaussian on the estimates (0: raw per-sample)
+
+    def __post_init__(self) -> None:
+        for name in ("context_sigma_s", "context_length_s"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise ValueError(f"WindNetConfig.{name} = {v!r}: must be a positive number")
+        if not (np.isfinite(self.smooth_s) and self.smooth_s >= 0):
+            raise ValueError(f"WindNetConfig.smooth_s = {self.smooth_s!r}: must be >= 0")
+
+
+def _df(table):
+    from airwake.record.flight_table import FlightTable, load_flight_table
+
+    if isinstance(table, FlightTable):
+        return table.df, str(table.path or "<table>")
+    if isinstance(table, pd.DataFrame):
+        return table, "<table>"
+    return load_flight_table(table, required=()).df, str(table)
+
+
+def wind_features(table, feature_config: FeatureConfig, config: WindNetConfig):
+    """(t_s (T,), X (T, F), names (F,), rate_hz, truth (T, 6) or None) of one flight."""
+    from airwake.nets.data import net_flight_from_df
+
+    df, source = _df(table)
+    flight = net_flight_from_df(df, source, "accel", "delta")
+    missing = [c for c in MOTION if c not in df.columns or df[c].isna().all()]
+    if missing:
+        raise FlightTableError(f"{source}: column(s) {missing} missing; a wind net reads "
+                               f"{list(MOTION)}")
+    # the net flight may have cropped or dropped nothing: align by time
+    motion = np.column_stack([np.interp(flight.t_s, df["t_s"].to_numpy(float),
+                                        df[c].to_numpy(float)) for c in MOTION])
+    x, names = build_features(flight.inputs, flight.roll_rad, flight.pitch_rad,
+                              flight.rates_rad_s, flight.rate_hz, feature_config)
+    lp = gaussian_lowpass(motion, flight.rate_hz, config.context_sigma_s,
+                          config.context_length_s)
+    x = np.column_stack([x, motion, lp])
+    names = [*names, *MOTION, *(f"{c}_context" for c in MOTION)]
+    truth = None
+    if all(c in df.columns for c in WIND_TRUTH):
+        truth = np.column_stack([np.interp(flight.t_s, df["t_s"].to_numpy(float),
+                                           df[c].to_numpy(float)) for c in WIND_TRUTH])
+    return flight.t_s, x, names, flight.rate_hz, truth
+
+
+def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig | None = None,
+                   split: SplitConfig | None = None, adamw=None,
+                   max_rows: int = 60000) -> PilotNet:
+    """A wind net trained on simulated flights (their truth_wind_* columns); the card
+    holds the features, windows, flights, validation RMS per output (net and ARX)."""
+    from airwake.nets.train import AdamWConfig, train_adamw, versions
+
+    config = config or WindNetConfig()
+    split = split or SplitConfig()
+    fcfg = FeatureConfig(rate_lag_samples=0)
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(seed)
+    xs, ys, labels, flights, names, rates = [], [], [], [], None, []
+    for table in tables:
+        t, x, names, rate_hz, truth = wind_features(table, fcfg, config)
+        if truth is None:
+            raise FlightTableError(f"{_df(table)[1]}: no truth_wind_* columns: a wind net "
+                                   "trains on simulated flights")
+        lab = block_split(t, split, max(fcfg.history_s(rate_hz),
+                                        config.context_length_s), rng)
+        lab = np.where(lab == TEST, TRAIN, lab)  # other flights are the test set
+        xs.append(x)
+        ys.append(truth)
+        labels.append(lab)
+        rates.append(rate_hz)
+        flights.append({"path": _df(table)[1], "rows": int(t.size)})
+    x, y, lab = np.concatenate(xs), np.concatenate(ys), np.concatenate(labels)
+    tr = np.flatnonzero(lab == TRAIN)
+    va = np.flatnonzero(lab == VAL)
+    # every k-th training row: neighbouring rows at 150 Hz are near-copies
+    step = max(1, int(np.ceil(tr.size / max_rows)))
+    tr = tr[::step]
+    old = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        torch.manual_seed(seed)
+        gen = torch.Generator().manual_seed(seed)
+        net = PilotNet(x.shape[1], y.shape[1], hidden, None)
+        net.set_scaling(x[tr], y[tr])
+        z = net.standardise(x)
+        ys_ = net.standardise_target(x, y)
+        net.set_arx(fit_arx(z[tr].double().numpy(), ys_[tr].double().numpy()))
+        cfg = adamw or AdamWConfig(lr=2e-3, max_epochs=60, patience=8)
+        info = train_adamw(net, z[tr], ys_[tr], z[va], ys_[va], cfg, gen)
+        net.eval()
+        pred_va, arx_va = net.predict_numpy(x[va]), net.predict_arx(x[va])
+    finally:
+        torch.set_num_threads(old)
+    rms = {o: {"net": float(np.sqrt(np.mean((pred_va[:, k] - y[va, k]) ** 2))),
+               "arx": float(np.sqrt(np.mean((arx_va[:, k] - y[va, k]) ** 2)))}
+           for k, o in enumerate(WIND_OUTPUTS)}
+    net.card = {"target": TARGET, "outputs": list(WIND_OUTPUTS), "features": names,
+                "feature_config": fcfg.to_dict(), "wind_net_config": asdict(config),
+                "split": asdict(split), "input_source": "delta",
+                "rate_hz": float(np.mean(rates)), "trainer": "adamw",
+                "trainer_settings": asdict(cfg), "training": info, "seed": int(seed),
+                "training_flights": flights, "training_rows": int(tr.size),
+                "validation_rms": rms, "train_seconds": round(time.perf_counter() - t0, 3),
+                "versions": versions()}
+    return net
+
+
+def predict_wind(net: PilotNet, table, smooth_s: float | None = None) -> pd.DataFrame:
+    """t_s and the six wind_* estimates per sample (body axes, SI), smoothed by the net's
+    `smooth_s` (or the given one; 0 = raw)."""
+    from airwake.nets.model import NetFileError
+
+    if net.card.get("target") != TARGET:
+        raise NetFileError(f"a {net.card.get('target')!r} net is not a wind net")
+    config = WindNetConfig(**net.card["wind_net_config"])
+    fcfg = FeatureConfig.from_dict(net.card["feature_config"])
+    t, x, names, rate_hz, _ = wind_features(table, fcfg, config)
+    if names != net.card["features"]:
+        raise NetFileError(f"the wind net's card lists features {net.card['features']}, "
+                           f"this code builds {names}")
+    rate = net.card["rate_hz"]
+    if not 0.9 * rate <= rate_hz <= 1.1 * rate:
+        raise FlightTableError(f"sampled at {rate_hz:.4g} Hz, the wind net was trained at "
+                               f"{rate:.4g} Hz")
+    est = net.predict_numpy(x)
+    smooth = config.smooth_s if smooth_s is None else smooth_s
+    if smooth > 0:
+        est = gaussian_smooth(est, rate_hz, smooth, 3.0 * smooth)
+    return pd.DataFrame({"t_s": t, **{o: est[:, k] for k, o in enumerate(WIND_OUTPUTS)}})
+
+
+def score_against_truth(est: pd.DataFrame, table, at_t_s: np.ndarray | None = None,
+                        burn_in_s: float = 2.0) -> dict:
+    """RMS and mean error per component against the flight's truth_wind_*, at the
+    estimate's samples or (interpolated) at `at_t_s` (another estimator's samples), after
+    `burn_in_s`."""
+    df, source = _df(table)
+    if any(c not in df.columns for c in WIND_TRUTH):
+        raise FlightTableError(f"{source}: no truth_wind_* columns to score against")
+    tf = df["t_s"].to_numpy(float)
+    te = est["t_s"].to_numpy(float)
+    t = te if at_t_s is None else np.asarray(at_t_s, float)
+    t = t[(t >= te[0] + burn_in_s) & (t <= te[-1])]
+    out = {"samples": int(t.size)}
+    for o, c in zip(WIND_OUTPUTS, WIND_TRUTH, strict=True):
+        e = np.interp(t, te, est[o].to_numpy(float)) - np.interp(t, tf, df[c].to_numpy(float))
+        out[o] = {"rms": float(np.sqrt(np.mean(e**2))), "mean": float(np.mean(e))}
+    return out

@@ -1,0 +1,75 @@
+"""Live A_ω (the daemon's `--net`) gives what the offline map code gives for the same
+samples, and refuses nets it cannot feed."""
+
+import math
+from collections import namedtuple
+
+import numpy as np
+import pandas as pd
+import pytest
+from airwake.cli import main
+from airwake.nets import load_net, predict
+from airwake.nets.intensity import IntensityConfig, intensity_series
+from airwake.nets.live import LiveIntensity
+from airwake.nets.model import NetFileError
+from airwake.record.rigging import BLADE_PITCH_COLUMNS, DEFAULT_RIGGING
+
+Ins = namedtuple("Ins", "ypr_deg angular_rate_frd_rad_s")
+Pilot = namedtuple("Pilot", "pwm_us valid_mask")
+
+
+@pytest.fixture(scope="module")
+def rate_net(truth_world_flight, tmp_path_factory):
+    still = truth_world_flight("still_air_calibration", 5, 60.0)
+    net = tmp_path_factory.mktemp("live") / "rates.pt"
+    assert main(["nets", "train", str(still), "--out", str(net), "--quiet"]) == 0
+    return load_net(net), still
+
+
+def test_live_intensity_equals_the_offline_series_once_its_history_is_filled(rate_net):
+    # the channel the daemon records must be the A_ω the map is built from
+    net, path = rate_net
+    df = pd.read_parquet(path).iloc[:1500].reset_index(drop=True)
+    pwm = df[[f"pwm_ch{c}_us" for c in range(1, 6)]].to_numpy()
+    # the live path derives the blade pitch from the pulse widths through the rigging
+    pitch = DEFAULT_RIGGING.pwm_to_blade_pitch(pwm)
+    for j, name in enumerate(BLADE_PITCH_COLUMNS):
+        df[name] = pitch[:, j]
+    cfg = IntensityConfig(std_window_s=0.5)
+    offline = intensity_series(predict(net, df), cfg)
+    live = LiveIntensity(net, cfg, batch_s=0.1)
+    out = []
+    for row in df.itertuples():
+        live.on_pilot_inputs(row.t_s, Pilot(tuple(pwm[row.Index]), 0x1F))
+        live.on_ins(row.t_s, Ins((math.degrees(row.yaw_rad), math.degrees(row.pitch_rad),
+                                  math.degrees(row.roll_rad)),
+                                 (row.p_rad_s, row.q_rad_s, row.r_rad_s)))
+        out += live.step()
+    out += live.step(force=True)
+    assert len(out) == len(df)
+    got = pd.DataFrame(out)
+    valid = got["valid"].to_numpy()
+    assert valid[-1] and not valid[0]
+    assert np.allclose(got["t_s"], df["t_s"])
+    for col in ("a_omega", "resid_std", "omega_s"):
+        assert np.allclose(got[col].to_numpy()[valid], offline[col].to_numpy()[valid],
+                           rtol=1e-6, atol=1e-9), col
+    assert offline["valid"].to_numpy()[valid].all()
+
+
+def test_live_intensity_refuses_an_acceleration_net(truth_world_flight, tmp_path):
+    still = truth_world_flight("still_air_calibration", 5, 60.0)
+    path = tmp_path / "accel.pt"
+    assert main(["nets", "train", str(still), "--target", "accel", "--out", str(path),
+                 "--quiet"]) == 0
+    with pytest.raises(NetFileError, match="rate net"):
+        LiveIntensity(load_net(path))
+
+
+def test_no_row_before_the_first_valid_pilot_input(rate_net):
+    # without the pilot's inputs there is nothing to compensate: no fabricated rows
+    net, _ = rate_net
+    live = LiveIntensity(net)
+    live.on_pilot_inputs(0.0, Pilot((1500,) * 5, 0x0E))  # channel 1 invalid
+    live.on_ins(0.0, Ins((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    assert live.step(force=True) == [] and live.status()["skipped"] == 1
