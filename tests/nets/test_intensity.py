@@ -140,3 +140,13 @@ def test_score_needs_a_simulated_flight(accel_net, truth_world_flight, tmp_path,
                  str(tmp_path / "m"), "--score"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "not a simulated flight" in err
+
+
+def test_running_sum_std_equals_the_sliding_window_std():
+    # the O(T) form the live path uses must be the same statistic as the features' one
+    from airwake.nets.features import local_std
+    from airwake.nets.intensity import trailing_std
+
+    y = np.random.default_rng(2).normal(3.0, 0.1, (4000, 3))
+    assert np.allclose(trailing_std(y, 75), local_std(y, 75), rtol=0, atol=1e-8)
+    assert np.allclose(trailing_std(y[:, 0], 7), local_std(y[:, 0], 7), rtol=0, atol=1e-12)

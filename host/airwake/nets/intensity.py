@@ -27,8 +27,6 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import pandas as pd
 
-from airwake.nets.features import local_std
-
 _SUFFIXES = ("_resid_rad_s", "_resid_rad_s2")
 
 
@@ -36,7 +34,7 @@ _SUFFIXES = ("_resid_rad_s", "_resid_rad_s2")
 class IntensityConfig:
     """Windows (s) of eq 2.4's ω_s and of the residual std; peak detection settings."""
 
-    std_window_s: float = 1.0  # ω_s, ω_s′ and the residuals' local std
+    std_window_s: float = 0.5  # ω_s, ω_s′ and the residuals' local std
     peak_separation_s: float = 15.0  # peaks at least this far apart
     peak_std_window_s: float = 10.0  # the neighbourhood a peak stands above (centred)
     peak_factor: float = 1.5  # ... by at least this many stds of the whole series
@@ -65,6 +63,23 @@ def samples_in(seconds: float, rate_hz: float) -> int:
     return max(2, int(round(seconds * rate_hz)))
 
 
+def trailing_std(y: np.ndarray, n: int) -> np.ndarray:
+    """Standard deviation over the trailing `n` samples of y (T,) or (T, C), the start
+    edge-padded (as `nets.features.local_std`), in O(T) from running sums of the values
+    less the first one (less cancellation; and row t reads rows <= t only). The live path
+    calls it every batch: the sliding-window form was most of its CPU."""
+    y = np.asarray(y, dtype=float)
+    y2 = y.reshape(len(y), -1)
+    c = y2 - y2[:1]
+    padded = np.concatenate([np.repeat(c[:1], n - 1, axis=0), c], axis=0)
+    zero = np.zeros((1, c.shape[1]))
+    s1 = np.cumsum(np.concatenate([zero, padded]), axis=0)
+    s2 = np.cumsum(np.concatenate([zero, padded * padded]), axis=0)
+    mean = (s1[n:] - s1[:-n]) / n
+    var = (s2[n:] - s2[:-n]) / n - mean * mean
+    return np.sqrt(np.maximum(var, 0.0)).reshape(y.shape)
+
+
 def intensity_from_arrays(measured: np.ndarray, predicted: np.ndarray, n_window: int):
     """Eq 2.4 on arrays: measured, predicted (T, K) -> dict of (T,) arrays a_omega,
     omega_s, omega_s_pred, resid_norm, resid_std (trailing windows of n_window samples)."""
@@ -72,13 +87,13 @@ def intensity_from_arrays(measured: np.ndarray, predicted: np.ndarray, n_window:
     predicted = np.asarray(predicted, float)
     resid = measured - predicted
     # ω_s, ω_s′: local std of the magnitudes (the reference's fourth gyro channel)
-    omega_s = local_std(np.linalg.norm(measured, axis=1), n_window)
-    omega_s_pred = local_std(np.linalg.norm(predicted, axis=1), n_window)
+    omega_s = trailing_std(np.linalg.norm(measured, axis=1), n_window)
+    omega_s_pred = trailing_std(np.linalg.norm(predicted, axis=1), n_window)
     resid_norm = np.linalg.norm(resid, axis=1)
     # eq 2.4: A_ω = (ω_s − ω_s′) ‖ω − ω′‖
     a_omega = (omega_s - omega_s_pred) * resid_norm
     # §4.4.1: the norm of the residuals' local standard deviation
-    resid_std = np.linalg.norm(local_std(resid, n_window).reshape(len(resid), -1), axis=1)
+    resid_std = np.linalg.norm(trailing_std(resid, n_window).reshape(len(resid), -1), axis=1)
     return {"a_omega": a_omega, "omega_s": omega_s, "omega_s_pred": omega_s_pred,
             "resid_norm": resid_norm, "resid_std": resid_std}
 

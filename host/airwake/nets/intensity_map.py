@@ -56,7 +56,7 @@ class IntensityMap:
 
 
 def placed_samples(pred: pd.DataFrame, flight_df: pd.DataFrame, config: IntensityConfig):
-    """The intensity series at the flight's positions; (samples, frame)."""
+    """The intensity series at the flight's positions; (samples, frame, whole series)."""
     from airwake.estimate.errors import WindEstimationError
 
     frame = map_frame(flight_df)
@@ -72,7 +72,7 @@ def placed_samples(pred: pd.DataFrame, flight_df: pd.DataFrame, config: Intensit
     out = series[keep].reset_index(drop=True)
     for name, col in zip(("x_m", "y_m", "z_m"), cols, strict=True):
         out[name] = np.interp(out["t_s"].to_numpy(), tf, np.asarray(flight_df[col], float))
-    return out, frame
+    return out, frame, series
 
 
 def grid_intensity(samples: pd.DataFrame, cell_m: float = CELL_M, layer_m: float = LAYER_M,
@@ -131,11 +131,10 @@ def build_intensity_map(pred: pd.DataFrame, flight_df: pd.DataFrame, config: Int
     flight the samples and cells carry truth_turbulence_m_s."""
     from airwake.nets.intensity import find_intensity_peaks
 
-    samples, frame = placed_samples(pred, flight_df, config)
+    samples, frame, series = placed_samples(pred, flight_df, config)
     if flight_metadata is not None:
         samples["truth_turbulence_m_s"] = truth_turbulence(samples, frame, flight_metadata)
     cells = grid_intensity(samples, cell_m, layer_m, min_seconds)
-    series = intensity_series(pred, config)
     peaks = find_intensity_peaks(series["t_s"].to_numpy(), series["a_omega"].to_numpy(),
                                  config, series["valid"].to_numpy())
     if len(peaks):

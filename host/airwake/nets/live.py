@@ -8,12 +8,14 @@ Inputs, each with its host-timeline time (the board stamp mapped by `link.clock`
 - rover `ins` (150 Hz): roll, pitch from `ypr_deg`, p, q, r from the bias-compensated
   angular rate — one row per sample, as the flight table's rows.
 
-Rows wait in a buffer; every `batch_s` of rows `step()` computes the features
+Rows wait in a buffer; every `batch_s` (0.5 s) of rows `step()` computes the features
 (`nets.features`, trailing windows) over the pending rows plus the history they need,
 the net's prediction, and eq 2.4 (`nets.intensity.intensity_from_arrays`) with its
 trailing std window: the same numbers the offline `predict` + `intensity_series` give
 for those rows once the history is filled (a test checks it). Batching is the CPU
-saving: one forward pass per 15 rows instead of per row.
+saving: each batch recomputes the features over the ~1 s of history it needs, so per
+new row that overhead falls with the batch (docs/daemon.md has the figures); the
+channel lags the INS by up to `batch_s`.
 """
 
 from __future__ import annotations
@@ -61,7 +63,7 @@ class LiveIntensity:
     once `batch_s` of INS rows are pending."""
 
     def __init__(self, net: PilotNet, config: IntensityConfig | None = None,
-                 rigging: PwmRigging = DEFAULT_RIGGING, batch_s: float = 0.1) -> None:
+                 rigging: PwmRigging = DEFAULT_RIGGING, batch_s: float = 0.5) -> None:
         card = net.card
         if card.get("target") != "rates":
             raise NetFileError(f"--net: a {card.get('target')!r} net; live A_ω needs a rate "
