@@ -45,3 +45,43 @@ def test_bad_out_path_and_bad_net_file_are_user_errors(flight, tmp_path, capsys)
     junk.write_bytes(b"not a torch file")
     assert main(["nets", "evaluate", str(junk), str(flight)]) == 2
     assert "junk.pt: not a network file" in capsys.readouterr().err
+
+
+def test_train_options_reach_the_card(flight, tmp_path, capsys):
+    """--rate-lag/--rate-history/--train-target/--arx-ridge val/--per-axis, and
+    --pilot-only with a fixed ridge (30 s of the flight: option plumbing, not accuracy)."""
+    net = tmp_path / "opts.pt"
+    assert main(["nets", "train", str(flight), "--out", str(net), "--to-s", "30", "--quiet",
+                 "--json", "--rate-lag", "2", "--rate-history", "3", "--train-target", "lowpass",
+                 "--arx-ridge", "val", "--per-axis"]) == 0
+    card = json.loads(capsys.readouterr().out)
+    assert card["feature_config"]["rate_lag_samples"] == 2
+    assert card["feature_config"]["rate_history_samples"] == 3
+    assert card["features"][-3:] == ["p_lag2", "q_lag2", "r_lag2"] and "p_lag4" in card["features"]
+    assert card["train_target"] == "lowpass" and "arx_ridge_val" in card
+    assert card["trainer_settings"]["per_axis"] and "best_epoch_per_axis" in card["training"]
+    pilot = tmp_path / "pilot.pt"
+    assert main(["nets", "train", str(flight), "--out", str(pilot), "--to-s", "30", "--quiet",
+                 "--json", "--pilot-only", "--arx-ridge", "0.01"]) == 0
+    card = json.loads(capsys.readouterr().out)
+    assert card["feature_config"]["use_rates"] is False and card["arx_ridge"] == [0.01] * 3
+    assert not any(f.startswith(("p_", "q_", "r_")) for f in card["features"])
+    from airwake.nets import load_net
+
+    assert load_net(pilot).base_columns is None
+    assert main(["nets", "evaluate", str(pilot), str(flight), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert np.isfinite(report["overall"]["measured"]["net"]["p"]["rms"])
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--arx-ridge", "lots"], "--arx-ridge"),
+    (["--arx-ridge", "-1"], "arx_ridge"),
+    (["--pilot-only", "--rate-lag", "5"], "--pilot-only"),
+    (["--rate-history", "0"], "rate_history_samples"),
+])
+def test_bad_train_options_are_one_line_errors(flight, tmp_path, capsys, extra, words):
+    assert main(["nets", "train", str(flight), "--out", str(tmp_path / "x.pt"), "--quiet",
+                 *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and words in err

@@ -150,3 +150,16 @@ def test_bad_options_are_refused(flight_path):
         train_net([flight], train_target="truth")
     with pytest.raises(ValueError, match="arx_ridge"):
         train_net([flight], arx_ridge="auto")
+
+
+def test_pilot_only_features_feed_no_rate_back():
+    """use_rates=False (a pilot-only net, eq 2.4's ω′): inputs and attitude only, and
+    the rates cannot leak in — changing them changes no feature."""
+    inputs, roll, pitch, rates = _signals()
+    cfg = FeatureConfig(use_rates=False)
+    x, names = build_features(inputs, roll, pitch, rates, 150.0, cfg)
+    assert len(names) == 22 and names[-2:] == ["roll", "pitch"]
+    x2, _ = build_features(inputs, roll, pitch, rates * -3.0 + 1.0, 150.0, cfg)
+    np.testing.assert_array_equal(x, x2)
+    assert cfg.history_s(150.0) == pytest.approx(0.5)  # the longest window, no rate lag
+    assert FeatureConfig.from_dict(FeatureConfig().to_dict()).use_rates  # old cards: rates fed

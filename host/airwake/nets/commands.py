@@ -39,6 +39,20 @@ def register(subparsers) -> None:
     t.add_argument("--line-window-s", type=float, default=None, help="eq 2.1 history (0.5 s)")
     t.add_argument("--rate-lag", type=int, default=None, metavar="SAMPLES",
                    help="previous rates fed back, in samples (rates: 1, accel: 0)")
+    t.add_argument("--rate-history", type=int, default=None, metavar="N",
+                   help="feed back the rates at lags L ... L+N-1 (default 1: the lagged rate "
+                   "alone; more lags let a linear part track a rotor tone)")
+    t.add_argument("--pilot-only", action="store_true",
+                   help="no rate fed back: predict the rates from the pilot's inputs and the "
+                   "attitude alone (eq 2.4's ω′; --rate-lag and --rate-history unused)")
+    t.add_argument("--train-target", choices=("measured", "lowpass"), default="measured",
+                   help="fit the measured target or it low-passed (centred eq 2.3, σ 0.05 s, "
+                   "within each run of one set): the dynamics, not a rotor tone (measured)")
+    t.add_argument("--arx-ridge", default="1e-3", metavar="VALUE|val",
+                   help="ARX ridge (x N, standardised weights), or 'val': per axis the grid "
+                   "value with the smallest validation RMS (1e-3)")
+    t.add_argument("--per-axis", action="store_true",
+                   help="AdamW: each output axis keeps its own best validation epoch")
     t.add_argument("--block-s", type=float, default=None, help="split block length (5 s)")
     t.add_argument("--inputs", choices=("delta", "pwm", "rc_norm"), default=None,
                    help="pilot-input columns (default: the first complete set)")
@@ -103,7 +117,7 @@ def _load_flights(paths, target, inputs, from_s, to_s):
 def _train(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from airwake.nets import FeatureConfig, SplitConfig, save_net, train_net
+    from airwake.nets import AdamWConfig, FeatureConfig, SplitConfig, save_net, train_net
     from airwake.nets.model import NetFileError
     from airwake.nets.train import DEFAULT_RATE_LAG
 
@@ -120,13 +134,28 @@ def _train(args: argparse.Namespace) -> int:
            else args.rate_lag}
     if args.line_window_s is not None:
         fkw["line_window_s"] = args.line_window_s
+    if args.rate_history is not None:
+        fkw["rate_history_samples"] = args.rate_history
+    if args.pilot_only:
+        if args.rate_lag is not None or args.rate_history is not None:
+            raise NetFileError("--pilot-only feeds no rate back: leave out --rate-lag and "
+                               "--rate-history")
+        fkw["use_rates"] = False
+    if args.arx_ridge.strip().lower() == "val":
+        ridge: float | str = "val"
+    else:
+        try:
+            ridge = float(args.arx_ridge)
+        except ValueError:
+            raise NetFileError(f"--arx-ridge {args.arx_ridge!r}: a number >= 0 or 'val'") from None
     try:
         features = FeatureConfig(**fkw)
         split = SplitConfig(**({"block_s": args.block_s} if args.block_s else {}))
         flights = _load_flights(args.flights, args.target, args.inputs, args.from_s, args.to_s)
         net = train_net(flights, target=args.target, trainer=args.trainer, seed=args.seed,
                         features=features, split=split, hidden=hidden,
-                        progress=not args.quiet)
+                        progress=not args.quiet, train_target=args.train_target,
+                        arx_ridge=ridge, adamw=AdamWConfig(per_axis=args.per_axis))
     except ValueError as exc:
         raise NetFileError(f"nets train: {exc}") from None
     save_net(net, out)

@@ -45,6 +45,10 @@ class FeatureConfig:
     use_rate_lowpass: also the causal low-pass (eq 2.3, the inputs' sigma and length) of
         the lagged rates: a real gyro's sample-to-sample noise (the T-REX 550 log: as
         large as the rates themselves) otherwise enters the prediction one-to-one.
+    use_rates: False makes a pilot-only net: no rate is fed back (the rate lag, history
+        and rate low-pass are then unused), the prediction is the motion the pilot's
+        inputs (and the attitude, with use_attitude) explain — eq 2.4's ω′ as the
+        reference meant it, rather than a one-step prediction that tracks ω.
     """
 
     line_window_s: float = 0.5
@@ -57,6 +61,7 @@ class FeatureConfig:
     use_std: bool = True
     use_attitude: bool = True
     use_rate_lowpass: bool = True
+    use_rates: bool = True
 
     def __post_init__(self) -> None:
         for name in ("line_window_s", "lowpass_sigma_s", "lowpass_length_s", "std_window_s"):
@@ -89,6 +94,8 @@ class FeatureConfig:
     def history_s(self, rate_hz: float) -> float:
         """How far back the features reach: the split's guard at each block start."""
         longest = max(self.line_window_s, self.lowpass_length_s, self.std_window_s)
+        if not self.use_rates:
+            return longest
         return longest + (self.rate_lag_samples + self.rate_history_samples) / rate_hz
 
 
@@ -176,7 +183,8 @@ def build_features(inputs, roll, pitch, rates, rate_hz: float, config: FeatureCo
     slope, intercept, error (eqs 2.1-2.2), then optionally the causal low-pass (eq 2.3)
     and the local std; then roll, pitch; then (rate_history_samples > 1) p, q, r at the
     further lags, oldest first; then the causal low-pass of the lagged rates (optional)
-    and p, q, r delayed by rate_lag_samples: the lagged rates are the last three columns.
+    and p, q, r delayed by rate_lag_samples: the lagged rates are the last three columns
+    (use_rates False: no rate column at all, a pilot-only net).
     """
     inputs = np.asarray(inputs, dtype=float)
     cols, names = [], []
@@ -196,6 +204,10 @@ def build_features(inputs, roll, pitch, rates, rate_hz: float, config: FeatureCo
     if config.use_attitude:
         cols += [np.asarray(roll, float), np.asarray(pitch, float)]
         names += ["roll", "pitch"]
+    if not config.use_rates:
+        if not cols:
+            raise ValueError("FeatureConfig: no feature left")
+        return np.column_stack(cols), names
     lag = int(config.rate_lag_samples)
     prev = lagged(rates, lag)
     for extra in range(lag + int(config.rate_history_samples) - 1, lag, -1):

@@ -19,7 +19,7 @@ import numpy as np
 import torch
 
 from airwake.nets.data import INPUT_SOURCES, NetFlight
-from airwake.nets.features import FeatureConfig, build_features
+from airwake.nets.features import FeatureConfig, build_features, lagged
 from airwake.nets.metrics import score_sets, smoothed_target
 from airwake.nets.model import PilotNet, fit_arx
 from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, block_split
@@ -75,13 +75,14 @@ class Dataset:
 
 def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
     """X (T, F), names, y (T, K), persistence (T, K) or None for one flight."""
-    if target == "rates" and config.rate_lag_samples < 1:
+    if target == "rates" and config.use_rates and config.rate_lag_samples < 1:
         raise ValueError("the rate target needs rate_lag_samples >= 1 (lag 0 is the answer)")
     x, names = build_features(flight.inputs, flight.roll_rad, flight.pitch_rad,
                               flight.rates_rad_s, flight.rate_hz, config)
     if target == "rates":
         y = flight.rates_rad_s
-        prev = x[:, -3:]
+        # persistence: the fed-back rates, or (pilot-only net) the previous sample's
+        prev = x[:, -3:] if config.use_rates else lagged(y, 1)
     else:
         y = flight.accel_rad_s2
         prev = None
@@ -377,7 +378,8 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
                              f"validation rows for {ds.x.shape[1]} features (fly longer or use "
                              "smaller blocks)")
         # the rate target learns the change since the fed-back rates (the last 3 features)
-        base = None if target == "accel" else [ds.x.shape[1] - 3 + k for k in range(3)]
+        base = None if target == "accel" or not features.use_rates else \
+            [ds.x.shape[1] - 3 + k for k in range(3)]
         y_fit = ds.y if train_target == "measured" else ds.y_lp_sets
         net = PilotNet(ds.x.shape[1], ds.y.shape[1], hidden, base)
         net.set_scaling(ds.x[tr], y_fit[tr])
