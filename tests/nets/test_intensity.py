@@ -132,6 +132,28 @@ def test_airwake_map_of_a_ship_flight_follows_the_simulator_turbulence(
     assert again["calibration"]["slope"] == summary["calibration"]["slope"]
 
 
+def test_no_net_map_is_the_gyro_statistics_and_its_calibration_stays_its_own(
+        accel_net, truth_world_flight, tmp_path, capsys):
+    # ω′ = 0: A_ω = ω_s·‖ω‖ and resid_std the gyro's local std — the map a net must beat
+    ship = truth_world_flight("ship_airwake_b0", 5, 60.0)
+    cal = truth_world_flight("ship_airwake_b15", 6, 60.0)
+    out = tmp_path / "nonet"
+    assert main(["nets", "airwake", str(ship), "--no-net", "--out", str(out), "--score",
+                 "--calibrate-on", str(cal), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["net"] == "none" and summary["resid_unit"] == "rad_s"
+    assert summary["score"]["cells"] >= 8 and summary["score"]["resid_std_pearson"] > 0.5
+    samples = pd.read_parquet(out / "map.parquet")
+    assert (samples["a_omega"] >= 0).all()  # ω_s·‖ω‖ cannot be negative
+    # a --no-net calibration is not applied to a net's residuals, nor the other way
+    assert main(["nets", "airwake", str(ship), "--net", str(accel_net), "--out",
+                 str(tmp_path / "mix"), "--calibration", str(out / "calibration.json")]) == 2
+    assert "--no-net" in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # one of --net / --no-net is required
+        main(["nets", "airwake", str(ship), "--out", str(tmp_path / "none")])
+    assert "--no-net" in capsys.readouterr().err
+
+
 def test_score_needs_a_simulated_flight(accel_net, truth_world_flight, tmp_path, capsys):
     df = pd.read_parquet(truth_world_flight("ship_airwake_b0", 5, 60.0))
     plain = tmp_path / "plain.csv"
