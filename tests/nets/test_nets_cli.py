@@ -62,13 +62,17 @@ def test_train_options_reach_the_card(flight, tmp_path, capsys):
     assert card["trainer_settings"]["per_axis"] and "best_epoch_per_axis" in card["training"]
     pilot = tmp_path / "pilot.pt"
     assert main(["nets", "train", str(flight), "--out", str(pilot), "--to-s", "30", "--quiet",
-                 "--json", "--pilot-only", "--arx-ridge", "0.01"]) == 0
+                 "--json", "--pilot-only", "--arx-ridge", "0.01", "--max-epochs", "0"]) == 0
     card = json.loads(capsys.readouterr().out)
+    assert card["training"]["epochs_run"] == 0 and card["trainer_settings"]["max_epochs"] == 0
     assert card["feature_config"]["use_rates"] is False and card["arx_ridge"] == [0.01] * 3
     assert not any(f.startswith(("p_", "q_", "r_")) for f in card["features"])
     from airwake.nets import load_net
 
-    assert load_net(pilot).base_columns is None
+    net = load_net(pilot)
+    assert net.base_columns is None
+    x = np.random.default_rng(0).normal(size=(5, net.n_features))
+    np.testing.assert_allclose(net.predict_numpy(x), net.predict_arx(x), rtol=1e-5, atol=1e-6)
     assert main(["nets", "evaluate", str(pilot), str(flight), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert np.isfinite(report["overall"]["measured"]["net"]["p"]["rms"])
@@ -79,6 +83,7 @@ def test_train_options_reach_the_card(flight, tmp_path, capsys):
     (["--arx-ridge", "-1"], "arx_ridge"),
     (["--pilot-only", "--rate-lag", "5"], "--pilot-only"),
     (["--rate-history", "0"], "rate_history_samples"),
+    (["--max-epochs", "-1"], "--max-epochs"),
 ])
 def test_bad_train_options_are_one_line_errors(flight, tmp_path, capsys, extra, words):
     assert main(["nets", "train", str(flight), "--out", str(tmp_path / "x.pt"), "--quiet",

@@ -53,6 +53,9 @@ def register(subparsers) -> None:
                    "value with the smallest validation RMS (1e-3)")
     t.add_argument("--per-axis", action="store_true",
                    help="AdamW: each output axis keeps its own best validation epoch")
+    t.add_argument("--max-epochs", type=int, default=None, metavar="N",
+                   help="AdamW epochs at most (300); 0 keeps the ARX start: a linear model "
+                   "in the net's file")
     t.add_argument("--block-s", type=float, default=None, help="split block length (5 s)")
     t.add_argument("--inputs", choices=("delta", "pwm", "rc_norm"), default=None,
                    help="pilot-input columns (default: the first complete set)")
@@ -154,6 +157,11 @@ def _train(args: argparse.Namespace) -> int:
             ridge = float(args.arx_ridge)
         except ValueError:
             raise NetFileError(f"--arx-ridge {args.arx_ridge!r}: a number >= 0 or 'val'") from None
+    akw = {"per_axis": args.per_axis}
+    if args.max_epochs is not None:
+        if args.max_epochs < 0:
+            raise NetFileError(f"--max-epochs {args.max_epochs}: must be >= 0")
+        akw["max_epochs"] = args.max_epochs
     try:
         features = FeatureConfig(**fkw)
         split = SplitConfig(**({"block_s": args.block_s} if args.block_s else {}))
@@ -161,7 +169,7 @@ def _train(args: argparse.Namespace) -> int:
         net = train_net(flights, target=args.target, trainer=args.trainer, seed=args.seed,
                         features=features, split=split, hidden=hidden,
                         progress=not args.quiet, train_target=args.train_target,
-                        arx_ridge=ridge, adamw=AdamWConfig(per_axis=args.per_axis))
+                        arx_ridge=ridge, adamw=AdamWConfig(**akw))
     except ValueError as exc:
         raise NetFileError(f"nets train: {exc}") from None
     save_net(net, out)
