@@ -35,8 +35,9 @@ def run_boards(run_dir, seconds: float, *extra, out=None, preexec_fn=None, until
     return boards, daemon
 
 
-def test_sigkill_leaves_a_readable_recording_missing_under_a_second(run_dir):
-    # kill -9 at an arbitrary moment: the recording opens and holds all but the last second
+def test_sigkill_leaves_a_readable_recording_missing_under_half_a_second(run_dir):
+    # kill -9 at an arbitrary moment: the recording opens and holds all but the last half
+    # second (the writer flushes every record.recording.FLUSH_S = 0.1 s; docs/daemon.md)
     boards, daemon = run_boards(run_dir, 3.0 + float(np.random.default_rng().uniform(0, 0.5)))
     try:
         t_kill = time.monotonic_ns()
@@ -49,13 +50,13 @@ def test_sigkill_leaves_a_readable_recording_missing_under_a_second(run_dir):
     assert not rec.complete and rec.summary is None
     assert not rec.segments[-1].complete and rec.segments[-1].recovered_bytes > 0
     got = recorded_frames(rec)
-    wanted = sent_frames(boards, before_ns=t_kill - 1e9)
+    wanted = sent_frames(boards, before_ns=t_kill - 0.5e9)
     assert len(wanted) > 3000 and wanted <= got, len(wanted - got)
     # how much was lost: from the first frame sent but not recorded to the kill
     sent = sorted((ns, (o, m, s, u)) for b in boards for ns, o, m, s, u, st in b.sent
                   if st == "ok" and ns <= t_kill)
     first_missing = next(ns for ns, key in sent if key not in got)
-    assert (t_kill - first_missing) / 1e9 < 1.0
+    assert (t_kill - first_missing) / 1e9 < 0.5
     # the raw bytes are recovered as far: decoding them finds the same frames
     from airwake.link.batch import decode_capture
 

@@ -7,11 +7,12 @@
   flips on the rover's XBee link to the base, the base's pty unplugged for 1 s, the
   LOSA link stalled for 0.5 s, the rover reset; the boards are the ASan/UBSan builds.
 - `crash_flight`: rover + base, wall-paced (real time, the daemon on its own clock); the
-  daemon is killed with SIGKILL after 4 s.
+  daemon is killed with SIGKILL after 4-4.25 s (a random moment of its flush cycle).
 """
 
 from __future__ import annotations
 
+import random
 import signal
 import time
 
@@ -101,8 +102,11 @@ def fault_flight(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def crash_flight(tmp_path_factory):
+    # at a random moment in the writer's flush cycle (record.recording.FLUSH_S)
+    kill_at_s = CRASH_KILL_S + random.uniform(0.0, 0.25)
+
     def kill(run, extra):
-        if run.t_us >= CRASH_KILL_S * 1e6 and "kill_ns" not in extra:
+        if run.t_us >= kill_at_s * 1e6 and "kill_ns" not in extra:
             extra["kill_ns"] = run.kill_daemon(signal.SIGKILL)
             extra["kill_sim_s"] = run.t_us / 1e6
             extra["delivered"] = {b: p.log for b, p in run.ptys.items()}

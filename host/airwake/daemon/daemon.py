@@ -81,7 +81,7 @@ class DaemonOptions:
     marker_rate_hz: float = 60.0
     track: bool = True  # the live pose EKF (runs once marker and LOSA frames arrive)
     net: str | None = None  # a rate net (.pt): live A_ω on /host/airwake_intensity
-    flush_s: float = 0.25
+    flush_s: float = 0.1  # recording.FLUSH_S: what a crash may lose (docs/daemon.md)
     segment_s: float = 600.0
     record_metadata: dict = field(default_factory=dict)  # e.g. antenna offsets
 
