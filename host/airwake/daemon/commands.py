@@ -58,7 +58,9 @@ def _handle(args: argparse.Namespace) -> int:
         status_json=args.status_json, duration_s=args.duration, view=not args.quiet,
         poll_s=args.poll_ms / 1000.0, marker_rate_hz=args.marker_rate_hz,
         track=not args.no_track, net=args.net, segment_s=args.segment_s,
-        record_metadata=meta)
+        record_metadata=meta, live=args.live, foxglove=args.foxglove,
+        # the page updates at >= 2 Hz with the very snapshot --status-json writes
+        status_period_s=0.5 if args.live is not None else 1.0)
     return Daemon(opts).run()
 
 
@@ -89,6 +91,13 @@ def register(subparsers) -> None:
     p.add_argument("--net", metavar="NET.pt", default=None,
                    help="a rate net (airwake nets train): live airwake intensity A_ω per "
                    "rover INS sample, recorded on /host/airwake_intensity (docs/networks.md)")
+    p.add_argument("--live", metavar="[HOST:]PORT",
+                   help="serve a read-only live page (link health, recording, estimates) on "
+                   "PORT, loopback unless HOST is named (e.g. 0.0.0.0:8080); beyond the "
+                   "loopback it needs the token printed at start (docs/daemon.md)")
+    p.add_argument("--foxglove", metavar="[HOST:]PORT",
+                   help="serve the recording's channels live over the Foxglove WebSocket "
+                   "protocol on PORT (e.g. 8765), loopback unless HOST is named")
     p.add_argument("--segment-s", type=float, default=600.0,
                    help="start a new MCAP segment every S seconds (default 600)")
     g = p.add_argument_group("geometry for the export (stored in the recording's metadata)")

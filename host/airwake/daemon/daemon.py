@@ -84,6 +84,8 @@ class DaemonOptions:
     flush_s: float = 0.1  # recording.FLUSH_S: what a crash may lose (docs/daemon.md)
     segment_s: float = 600.0
     record_metadata: dict = field(default_factory=dict)  # e.g. antenna offsets
+    live: str | None = None  # [HOST:]PORT of the live page (daemon/live_web.py)
+    foxglove: str | None = None  # [HOST:]PORT of the Foxglove server (daemon/foxglove_bridge.py)
 
 
 class PortState:
@@ -145,6 +147,12 @@ class Daemon:
                 "input_source": card["input_source"], "rate_hz": card["rate_hz"],
                 "training_flights": [f.get("path") for f in card.get("training_flights", [])],
                 "intensity": self.intensity.config.to_dict()}}
+        self.live = None
+        if options.live is not None or options.foxglove is not None:
+            from airwake.daemon.live_outputs import LiveOutputs
+
+            self.live = LiveOutputs(options.live, options.foxglove, lambda text: print(
+                f"airwake daemon: {text}", file=self.stderr, flush=True))
         self.recorder = RecordingWriter(options.out, {
             "daemon_version": __version__,
             "schema_hash": f"0x{SCHEMA_HASH:08X}",
@@ -158,6 +166,8 @@ class Daemon:
             **net_meta,
             **options.record_metadata,
         }, flush_s=options.flush_s, segment_s=options.segment_s)
+        if self.live is not None:  # the outputs see each message after the recorder
+            self.recorder = self.live.tee(self.recorder)
         self._stop = False
         self._stop_reason = ""
         self._sel = selectors.DefaultSelector()
@@ -195,6 +205,8 @@ class Daemon:
             for s, h in old.items():
                 signal.signal(s, h)
             status = self._shutdown()
+            if self.live is not None:
+                self.live.close()
         return status
 
     def _loop(self) -> None:
@@ -470,6 +482,7 @@ class Daemon:
                and self.tracker.triangulated else {}),
             **({"airwake_intensity": self.intensity.status()} if self.intensity is not None
                else {}),
+            **({"live": self.live.status()} if self.live is not None else {}),
             "events": list(self.events)[-5:],
         }
 
