@@ -36,8 +36,9 @@ def test_sigkill_leaves_a_recording_missing_at_most_the_last_half_second(crash_f
     rec = open_recording(crash_flight / "rec")
     assert not rec.complete and rec.summary is None
     last = rec.segments[-1]
-    # the kill left whole records: recovery reads the file to its last byte
-    assert last.recovered_bytes == last.size > 0, last
+    # recovery reads every whole record; a kill inside the writer's one write() per flush
+    # could leave a torn tail, at most that flush's bytes (a few kB)
+    assert 0 < last.recovered_bytes <= last.size < last.recovered_bytes + 64 * 1024, last
     raw = rec.raw("base").data
     assert delivered.startswith(raw)
     log = np.array(extra["delivered"]["base"], dtype=np.int64)  # (wall ns, bytes so far)
