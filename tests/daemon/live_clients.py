@@ -1,6 +1,7 @@
 """Clients of the daemon's live outputs for the tests: plain HTTP, a server-sent-event
 reader, a stream that never reads, and a minimal Foxglove WebSocket client (the
-`foxglove.websocket.v1` protocol: advertise, subscribe, binary message data)."""
+Foxglove WebSocket protocol, subprotocol `foxglove.sdk.v1`:
+advertise, subscribe, binary message data)."""
 
 from __future__ import annotations
 
@@ -66,12 +67,12 @@ class EventStream:
         self.sock.close()
 
 
-def stalled_stream(port: int, host: str = "127.0.0.1") -> socket.socket:
+def stalled_stream(port: int, query: str = "", host: str = "127.0.0.1") -> socket.socket:
     """An `/events` client that never reads: a small receive buffer fills at once."""
     s = socket.socket()
     s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
     s.connect((host, port))
-    s.sendall(b"GET /events HTTP/1.1\r\nHost: x\r\n\r\n")
+    s.sendall(f"GET /events{query} HTTP/1.1\r\nHost: x\r\n\r\n".encode())
     return s
 
 
@@ -84,7 +85,7 @@ class FoxgloveClient:
         self.sock.sendall((f"GET / HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
                            f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
                            "Sec-WebSocket-Version: 13\r\n"
-                           "Sec-WebSocket-Protocol: foxglove.websocket.v1\r\n\r\n").encode())
+                           "Sec-WebSocket-Protocol: foxglove.sdk.v1\r\n\r\n").encode())
         self.buf = b""
         while b"\r\n\r\n" not in self.buf:
             self.buf += self._recv()

@@ -38,13 +38,13 @@ TICK_S = 0.25  # one event per tick to every client: the page updates at 4 Hz
 PLOT_HZ = 20.0  # estimate samples kept per channel and second (pose comes at 120 Hz)
 PLOT_HISTORY_S = 60.0  # what a new page gets to draw at once
 EVENTS_KEPT = 20
-CLIENT_QUEUE = 16  # events waiting per client (4 s at TICK_S) before its oldest drop
+CLIENT_QUEUE = 8  # events waiting per client (2 s at TICK_S) before its oldest drop
 MAX_CONNECTIONS = 64
 HEADER_TIMEOUT_S = 5.0
 HEADER_LIMIT = 8192
 # Bytes a stalled stream may hold below its queue: the socket's send buffer (fixed, so
 # the kernel's autotuning cannot hide megabytes of backlog) and the transport's buffer.
-SEND_BUFFER = 65536
+SEND_BUFFER = 32768
 
 # The fields drawn per estimate channel (others: their first numeric fields).
 PLOT_FIELDS = {
