@@ -20,7 +20,8 @@ APT_PACKAGES := gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
 PYTEST_ARGS ?= -n 2
 BOARD ?=
 
-.PHONY: help setup apt venv gen test test-c test-py firmware native flash bench lint demo sim clean
+.PHONY: help setup apt venv gen test test-c test-py firmware native flash bench lint demo sim clean \
+        docs-screenshots
 
 help:
 	@echo "make demo      SIL ship-airwake flight -> recording -> model report"
@@ -85,6 +86,10 @@ lint: venv
 
 demo: setup native
 	$(PY) -m hil_sim.boards.demo
+
+# docs/img/daemon-live-page.png: the daemon's live page on a SIL flight, in headless Chromium
+docs-screenshots: setup native
+	AIRWAKE_DOCS_SCREENSHOT=1 $(PY) -m pytest tests/sil/test_sil_live_page.py -q
 
 clean:
 	rm -rf build

@@ -1,7 +1,8 @@
 """`airwake sim run`: a SIL flight through the native boards, ptys and the real daemon.
 
     airwake sim run --scenario NAME_OR_FILE [--duration S] [--seed N] [--stepped | --wall]
-                    --out REC [--boards losa,marker,rover,base] [--json] [--quiet]
+                    --out REC [--boards losa,marker,rover,base] [--live [HOST:]PORT]
+                    [--foxglove [HOST:]PORT] [--json] [--quiet]
 
 Registered by `hil_sim/commands.py` (`register_run(sub)`); the work is `sil.SilRun`.
 """
@@ -46,6 +47,13 @@ def register_run(sub) -> None:
                    help="with --survey: seconds at each of its 50 stations (4)")
     p.add_argument("--asan", action="store_true",
                    help="run the ASan/UBSan builds (build/native-asan; slower)")
+    p.add_argument("--live", metavar="[HOST:]PORT",
+                   help="the daemon's live page on PORT (loopback unless HOST is named; "
+                   "its address, with the token beyond the loopback, is printed at start): "
+                   "airwake daemon --live, docs/daemon.md")
+    p.add_argument("--foxglove", metavar="[HOST:]PORT",
+                   help="the daemon's Foxglove WebSocket server on PORT (airwake daemon "
+                   "--foxglove)")
     p.add_argument("--json", action="store_true", help="print the run summary as JSON")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=_run)
@@ -101,6 +109,7 @@ def _run(args: argparse.Namespace) -> int:
     show = not (args.quiet or args.json)
     run = SilRun(scenario, out=args.out, seed=seed, duration_s=duration, mode=args.mode,
                  rig=rig, flavour="asan" if args.asan else "release", survey=survey,
+                 live=args.live, foxglove=args.foxglove,
                  progress=Progress(f"sil {scenario.name} ({args.mode})", duration, unit=" s",
                                    enabled=show),
                  world_progress=Progress(f"truth world {scenario.name}", duration, unit=" s",

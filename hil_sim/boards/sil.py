@@ -115,12 +115,16 @@ class SilRun:
                  duration_s: float | None = None, mode: str = "stepped",
                  rig: SilRig | None = None, faults=None, flavour: str = "release",
                  log_frames: bool = False, keep_delivered: bool = False,
-                 progress=None, world_progress=None, survey=None) -> None:
+                 progress=None, world_progress=None, survey=None, live: str | None = None,
+                 foxglove: str | None = None) -> None:
         if mode not in MODES:
             raise SilError(f"mode {mode!r}: expected one of {', '.join(MODES)}")
         self.scenario = scenario
         self.seed = scenario.seed if seed is None else int(seed)
         self.survey = survey  # a SurveyConfig: the marker carried with an anemometer
+        self.live = live  # the daemon's --live [HOST:]PORT (its page; docs/daemon.md)
+        self.foxglove = foxglove  # the daemon's --foxglove [HOST:]PORT
+        self.live_urls: list[str] = []  # where they listen, from the daemon's log
         if survey is not None:
             from hil_sim.world.anemometer_survey import survey_duration_s
 
@@ -320,6 +324,10 @@ class SilRun:
                     "--tracker-tilt-deg", repr(float(rig.tracker_tilt_deg))]
         cmd += ["--meta", f"sil_scenario={self.scenario.name}", "--meta", f"sil_seed={self.seed}",
                 "--meta", f"sil_mode={self.mode}"]
+        if self.live is not None:
+            cmd += ["--live", self.live]
+        if self.foxglove is not None:
+            cmd += ["--foxglove", self.foxglove]
         return cmd
 
     def _start_daemon(self, build_config) -> None:
@@ -330,6 +338,14 @@ class SilRun:
         segment = self.out / "segment-0000.mcap"
         self.daemon.wait_for(segment.exists, DAEMON_START_TIMEOUT_S,
                              f"starting (creating {self.out})")
+        if self.live is not None or self.foxglove is not None:
+            # the daemon printed where its live outputs listen before it created REC
+            self.live_urls = [line.split(": ", 1)[1] for line in
+                              self.daemon.log_path.read_text(errors="replace").splitlines()
+                              if line.startswith(("airwake daemon: live page:",
+                                                  "airwake daemon: foxglove:"))]
+            for line in self.live_urls:
+                print(f"sil: daemon {line}", file=sys.stderr, flush=True)
 
     def _open_ports(self) -> None:
         """One pty per host-facing board; wait until the daemon has opened each (it
