@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import socket
 import subprocess
 import sys
@@ -75,11 +76,14 @@ def flight(tmp_path_factory):
             time.sleep(0.2)
         yield {"port": port, "status": status_files[0], "proc": proc, "tmp": tmp}
     finally:
-        proc.terminate()
+        # SIGINT: the runner stops its daemon and boards (SIGTERM would orphan the daemon,
+        # which then reopens its old pty paths: /dev/pts numbers that new ptys reuse)
+        proc.send_signal(signal.SIGINT)
         try:
             proc.wait(60)
         except subprocess.TimeoutExpired:
             proc.kill()
+            proc.wait()
 
 
 def test_page_shows_every_board_with_the_status_json_numbers(flight):

@@ -45,7 +45,11 @@ def _rss_mb(pid: int) -> float:
 
 
 def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
-            poll_ms: float = 5.0, track: bool = True, net: str | None = None) -> dict:
+            poll_ms: float = 5.0, track: bool = True, net: str | None = None,
+            daemon_args: tuple[str, ...] = (), attach=None) -> dict:
+    """`daemon_args` are added to the daemon's command line; `attach()`, called once the
+    four boards are seen (before the warm-up), connects clients (e.g. to --live and
+    --foxglove) and returns the function that disconnects them."""
     with tempfile.TemporaryDirectory(prefix="airwake-bench-") as tmp:
         run = Path(tmp)
         boards = subprocess.Popen([sys.executable, "-m", "airwake.daemon.fake_boards", str(run),
@@ -64,9 +68,11 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
                    "--duration", str(duration_s + warmup_s + 5)] + ([] if track else ["--no-track"])
             if net is not None:  # a rate net: live A_ω on the rover INS (docs/networks.md)
                 cmd += ["--net", str(net)]
+            cmd += list(daemon_args)
             for role in ("losa", "marker", "base"):
                 cmd += ["--port", f"{role}={run / role}"]
             daemon = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+            detach = None
             try:
                 end = time.monotonic() + 30
                 while True:
@@ -81,6 +87,8 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
                                            + daemon.stderr.read().decode()[-500:]
                                            if daemon.poll() is not None else "timeout")
                     time.sleep(0.1)
+                if attach is not None:
+                    detach = attach()
                 time.sleep(warmup_s)
                 pid = daemon.pid
                 t0, c0 = time.monotonic(), _cpu_s(pid)
@@ -94,6 +102,8 @@ def measure(duration_s: float, warmup_s: float = 5.0, rss_after_s: float = 60.0,
                 frames1 = sum(p["frames"] for p in json.loads(status.read_text())
                               ["ports"].values())
             finally:
+                if detach is not None:
+                    detach()
                 daemon.terminate()
                 daemon.wait(30)
         finally:
