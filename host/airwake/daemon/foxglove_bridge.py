@@ -25,6 +25,7 @@ from airwake.record.recording import ros1_schema
 
 DRAIN_S = 0.02
 BACKLOG = 1024  # messages per client (~0.7 s of every frame): the SDK drops the oldest
+STOP_WAIT_S = 2.0
 
 
 class FoxgloveBridge:
@@ -65,7 +66,12 @@ class FoxgloveBridge:
         if self._thread.is_alive():
             self._thread.join(5.0)
         if self._server is not None:
-            self._server.stop()
+            # the SDK's stop() waits for each client's close handshake, which a client that
+            # stopped reading never completes: give it STOP_WAIT_S, then let the process go
+            stopper = threading.Thread(target=self._server.stop, daemon=True,
+                                       name="airwake-foxglove-stop")
+            stopper.start()
+            stopper.join(STOP_WAIT_S)
             self._server = None
 
     def status(self) -> dict:
