@@ -205,3 +205,28 @@ def test_plot_values_flatten_vectors_and_drop_non_finite():
         "pos_sigma_m[0]": 1.0, "pos_sigma_m[1]": 2.0, "pos_sigma_m[2]": 3.0}
     assert plot_values("/host/new_thing", {"t_s": 0, "ok": True, "x": 2.5, "name": "a"}) == {
         "x": 2.5}
+
+
+def test_every_estimate_channel_is_plotted_thinned(page):
+    # A_ω (--net) and any later /host channel reach the page without a page change
+    es = EventStream(page.port)
+    try:
+        assert es.next()["hello"]
+        for i in range(100):  # 1 s of 100 Hz samples
+            page.outbox.put(("json", "/host/airwake_intensity", i, None,
+                             {"t_s": 10 + i / 100, "a_omega": 0.5, "omega_s": 0.1,
+                              "resid_norm": 0.2, "valid": True}))
+            page.outbox.put(("json", "/host/wind", i, None, {"t_s": 10 + i / 100,
+                                                              "wind_ned_m_s": [1, 2, 3]}))
+        got: dict = {}
+        end = time.monotonic() + 5
+        while time.monotonic() < end and len(got.get("/host/wind", {}).get("t", [])) < 20:
+            for topic, cols in es.next().get("points", {}).items():
+                got.setdefault(topic, {"t": []})["t"] += cols["t"]
+                got[topic].update({k: v for k, v in cols["f"].items()})
+        a = got["/host/airwake_intensity"]
+        assert 18 <= len(a["t"]) <= 21  # 20 Hz of the 100 Hz samples
+        assert set(a) == {"t", "a_omega", "omega_s", "resid_norm"}
+        assert {"wind_ned_m_s[0]", "wind_ned_m_s[2]"} <= set(got["/host/wind"])
+    finally:
+        es.close()
