@@ -230,3 +230,33 @@ def test_every_estimate_channel_is_plotted_thinned(page):
         assert {"wind_ned_m_s[0]", "wind_ned_m_s[2]"} <= set(got["/host/wind"])
     finally:
         es.close()
+
+
+def test_page_draws_a_omega_along_the_track_in_the_ship_frame(page):
+    # the operator sees where on the ship's wake the intensity rises (headless Chromium)
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from browser import Browser
+
+    with Browser() as b:
+        b.get(f"http://127.0.0.1:{page.port}/")
+        page.outbox.put(("json", "/daemon/status", 0, None, status(1.0)))
+        for i in range(200):  # a 2 s pass across the deck, A_ω rising to starboard
+            y = -5.0 + 0.05 * i
+            page.outbox.put(("json", "/host/airwake_intensity", i, None,
+                             {"t_s": 1 + i / 100, "a_omega": 0.01 * (y + 5.0),
+                              "valid": True, "ship_x_m": -12.0, "ship_y_m": y}))
+        end = time.monotonic() + 10
+        n = None
+        while time.monotonic() < end:
+            n = b.run("var e = document.querySelector('[data-plot=\"track\"]');"
+                      "return e ? Number(e.getAttribute('data-points')) : null;")
+            if n and n >= 30:
+                break
+            time.sleep(0.1)
+        assert n is not None and n >= 30, n  # the 20 Hz thinned points of the pass
+        legend = b.run("return document.querySelector('[data-plot=\"track\"] .legend')"
+                       ".textContent")
+        assert legend.startswith("A_ω 0") and "points" in legend

@@ -57,6 +57,35 @@ def test_live_intensity_equals_the_offline_series_once_its_history_is_filled(rat
     assert offline["valid"].to_numpy()[valid].all()
 
 
+Baseline = namedtuple("Baseline", "baseline_ned_mm")
+
+
+def test_live_samples_carry_the_track_in_the_ship_frame(rate_net):
+    # the live view draws A_ω along the track: the RTK baseline (rover - base, NED) turned
+    # by the base INS heading, plus the base antenna's place on the ship
+    net, path = rate_net
+    df = pd.read_parquet(path).iloc[:300].reset_index(drop=True)
+    live = LiveIntensity(net, IntensityConfig(std_window_s=0.5), batch_s=0.1)
+    live.base_antenna_ship_m = (-3.0, 1.0)
+    pwm = df[[f"pwm_ch{c}_us" for c in range(1, 6)]].to_numpy()
+    out = []
+    for row in df.itertuples():
+        if row.Index == 100:  # ship heading 90 deg (east), rover 10 m east, 2 m south
+            live.on_ship_ins(row.t_s, Ins((90.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+            live.on_baseline(row.t_s, Baseline((-2000, 10000, -500)))
+        live.on_pilot_inputs(row.t_s, Pilot(tuple(pwm[row.Index]), 0x1F))
+        live.on_ins(row.t_s, Ins((0.0, 0.0, 0.0), (row.p_rad_s, row.q_rad_s, row.r_rad_s)))
+        out += live.step()
+    out += live.step(force=True)
+    assert len(out) == len(df)
+    assert all("ship_x_m" not in o for o in out[:100])  # not before both are known
+    for o in out[100:]:
+        # 10 m ahead of the base antenna along the heading, 2 m to starboard (south of a
+        # ship heading east)
+        assert o["ship_x_m"] == pytest.approx(-3.0 + 10.0)
+        assert o["ship_y_m"] == pytest.approx(1.0 + 2.0)
+
+
 def test_live_intensity_refuses_an_acceleration_net(truth_world_flight, tmp_path):
     still = truth_world_flight("still_air_calibration", 5, 60.0)
     path = tmp_path / "accel.pt"

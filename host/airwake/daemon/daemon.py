@@ -49,6 +49,7 @@ from airwake.link.messages import (
     MARKER_ATTITUDE,
     MARKER_COMMAND,
     PILOT_INPUTS,
+    RTK_BASELINE,
     SCHEMA_ENTRY,
     SCHEMA_HASH,
     STAMP_LATENCY,
@@ -141,6 +142,9 @@ class Daemon:
             from airwake.nets.model import load_net
 
             self.intensity = LiveIntensity(load_net(options.net))
+            xy = options.record_metadata.get("base_antenna_ship_xy_m")
+            if xy is not None:  # the track in the ship frame from the base antenna's place
+                self.intensity.base_antenna_ship_m = (float(xy[0]), float(xy[1]))
             card = self.intensity.net.card
             net_meta = {"live_net": {
                 "path": str(options.net), "target": card["target"],
@@ -311,6 +315,11 @@ class Daemon:
         elif mid == INS.id:
             if self.intensity is not None and origin == ROVER_ID:
                 self.intensity.on_ins(mapped_us * 1e-6, f.msg)
+            elif self.intensity is not None and origin == BASE_ID:
+                self.intensity.on_ship_ins(mapped_us * 1e-6, f.msg)
+        elif mid == RTK_BASELINE.id:
+            if self.intensity is not None and origin == ROVER_ID:
+                self.intensity.on_baseline(mapped_us * 1e-6, f.msg)
         elif mid == PILOT_INPUTS.id:
             if self.intensity is not None and origin == BASE_ID:
                 self.intensity.on_pilot_inputs(mapped_us * 1e-6, f.msg)

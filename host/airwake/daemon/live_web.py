@@ -49,7 +49,8 @@ SEND_BUFFER = 32768
 # The fields drawn per estimate channel (others: their first numeric fields).
 PLOT_FIELDS = {
     "/host/pose": ("pos_tracker_m", "pos_sigma_m"),
-    "/host/airwake_intensity": ("a_omega", "omega_s", "resid_norm"),
+    # ship_x/y_m: the track in the ship frame (the page's A_ω-along-the-track plot)
+    "/host/airwake_intensity": ("a_omega", "omega_s", "resid_norm", "ship_x_m", "ship_y_m"),
     "/host/tracker_position": ("pos_tracker_m",),
 }
 OTHER_FIELDS_MAX = 3

@@ -52,6 +52,12 @@ INTENSITY_SCHEMA = {
                        "maxItems": 3, "description": "the net's p′, q′, r′"},
         "valid": {"type": "boolean",
                   "description": "the features' and the std window's history filled"},
+        "ship_x_m": {"type": "number",
+                     "description": "the rover antenna in the ship frame, forward (m): the "
+                                    "latest RTK baseline rotated by the base INS heading, "
+                                    "plus the base antenna's place (--base-antenna-ship-m); "
+                                    "absent until both are known"},
+        "ship_y_m": {"type": "number", "description": "the same, starboard (m)"},
     },
     "required": ["t_s", "a_omega", "valid"],
 }
@@ -93,6 +99,9 @@ class LiveIntensity:
         self.inputs: np.ndarray | None = None
         self.samples_out = 0
         self.skipped = 0
+        self.base_antenna_ship_m = (0.0, 0.0)
+        self.ship_yaw_rad: float | None = None
+        self.baseline_ne_m: tuple[float, float] | None = None
 
     def on_pilot_inputs(self, t_s: float, msg) -> None:
         if (int(msg.valid_mask) & _PWM_VALID) != _PWM_VALID:
@@ -100,6 +109,27 @@ class LiveIntensity:
         pwm = np.asarray(msg.pwm_us[:4], float)
         self.inputs = pwm if self.use_pwm else \
             self.rigging.pwm_to_blade_pitch(pwm)[0, _FROM_RIGGING]
+
+    def on_ship_ins(self, t_s: float, msg) -> None:
+        """The base's INS: the ship's heading (for the track in the ship frame)."""
+        yaw = math.radians(float(msg.ypr_deg[0]))
+        if math.isfinite(yaw):
+            self.ship_yaw_rad = yaw
+
+    def on_baseline(self, t_s: float, msg) -> None:
+        """The rover's RTK baseline (rover - base, NED)."""
+        n, e = (float(v) * 1e-3 for v in msg.baseline_ned_mm[:2])
+        if math.isfinite(n) and math.isfinite(e):
+            self.baseline_ne_m = (n, e)
+
+    def ship_xy(self) -> tuple[float, float]:
+        """The rover antenna in the ship frame now (x forward, y starboard), or NaNs."""
+        if self.ship_yaw_rad is None or self.baseline_ne_m is None:
+            return math.nan, math.nan
+        c, s = math.cos(self.ship_yaw_rad), math.sin(self.ship_yaw_rad)
+        n, e = self.baseline_ne_m
+        return (self.base_antenna_ship_m[0] + c * n + s * e,
+                self.base_antenna_ship_m[1] - s * n + c * e)
 
     def on_ins(self, t_s: float, msg) -> None:
         if self.inputs is None:
@@ -111,7 +141,7 @@ class LiveIntensity:
         if not all(math.isfinite(v) for v in row):
             self.skipped += 1
             return
-        self.rows.append(row)
+        self.rows.append(row + self.ship_xy())
         self.pending = min(self.pending + 1, len(self.rows))
         self.seen += 1
 
@@ -125,19 +155,22 @@ class LiveIntensity:
         x, _ = build_features(inputs, roll, pitch, rates, self.rate_hz, self.features)
         # only the rows eq 2.4's std window reaches need a prediction
         m = min(len(a), n_new + self.n_std - 1)
-        t = t[-m:]
+        t, ship = t[-m:], a[-m:, 10:12]
         pred = self.net.predict_numpy(x[-m:])
         it = intensity_from_arrays(rates[-m:], pred, self.n_std)
         first_index = self.seen - m  # stream index of pred[0]
         out = []
         for i in range(m - n_new, m):
-            out.append({"t_s": float(t[i]), "a_omega": float(it["a_omega"][i]),
-                        "omega_s": float(it["omega_s"][i]),
-                        "omega_s_pred": float(it["omega_s_pred"][i]),
-                        "resid_norm": float(it["resid_norm"][i]),
-                        "resid_std": float(it["resid_std"][i]),
-                        "pred_rad_s": [float(v) for v in pred[i]],
-                        "valid": bool(first_index + i >= self.warmup)})
+            o = {"t_s": float(t[i]), "a_omega": float(it["a_omega"][i]),
+                 "omega_s": float(it["omega_s"][i]),
+                 "omega_s_pred": float(it["omega_s_pred"][i]),
+                 "resid_norm": float(it["resid_norm"][i]),
+                 "resid_std": float(it["resid_std"][i]),
+                 "pred_rad_s": [float(v) for v in pred[i]],
+                 "valid": bool(first_index + i >= self.warmup)}
+            if math.isfinite(ship[i, 0]):
+                o["ship_x_m"], o["ship_y_m"] = float(ship[i, 0]), float(ship[i, 1])
+            out.append(o)
         self.pending = 0
         self.samples_out += len(out)
         return out
