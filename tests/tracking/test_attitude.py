@@ -64,17 +64,29 @@ def test_wahba_svd_and_davenport_match_scipy_align_vectors_with_noise(seed, n):
 @settings(max_examples=40, deadline=None)
 @given(seeds)
 def test_initial_attitude_from_gravity_and_line_of_sight_within_noise(seed):
-    # Eq 3.5 with the marker at rest 2-5 m in front of the tracker, 0.3 deg LoS noise and
-    # accelerometer noise: the attitude comes out within a degree.
+    # Eq 3.5 with the marker at rest 2-5 m in front of the tracker, ~0.4 deg LoS noise and
+    # accelerometer noise: the attitude error is the vectors' own error, amplified by at
+    # most 1 / sin of the angle between them (the rotation about gravity comes from the
+    # LoS component normal to it), so about a degree at worst.
     rng = np.random.default_rng(seed)
     truth = Rotation.random(random_state=rng)
     g_ref = np.array([0.0, 9.798, 0.0])  # tracker frame: y down
     pos = np.array([rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(2, 5)])
-    accel = _noisy(truth.inv().apply(-g_ref), 0.02, rng)
-    los = _noisy(truth.inv().apply(-pos / np.linalg.norm(pos)), 0.005, rng)
+    accel_true = truth.inv().apply(-g_ref)
+    los_true = truth.inv().apply(-pos / np.linalg.norm(pos))
+    accel = _noisy(accel_true, 0.02, rng)
+    los = _noisy(los_true, 0.005, rng)
+
+    def angle(a, b):
+        return np.degrees(np.arccos(np.clip(a @ b / np.linalg.norm(a) / np.linalg.norm(b),
+                                            -1.0, 1.0)))
+
+    sep = np.radians(angle(accel_true, los_true))
+    bound = (angle(accel, accel_true) + angle(los, los_true)) / min(np.sin(sep), 1.0)
+    assert bound < 2.0  # the set-up: a degree-level start (1.53 deg at worst in 20k draws)
     for method in ("triad", "svd"):
         r = initial_attitude(accel, los, pos, g_ref, method=method)
-        assert _angle_between_deg(r, truth.as_matrix()) < 1.0
+        assert _angle_between_deg(r, truth.as_matrix()) <= 1.05 * bound + 1e-6
 
 
 def test_near_parallel_gravity_and_line_of_sight_raise_one_clear_line():
