@@ -48,11 +48,15 @@ def _handle(args: argparse.Namespace) -> int:
         ins_velocity_std=args.ins_velocity_std, n_particles=args.particles,
         sigma=args.sigma, resampler=args.resampler, ess_threshold=args.ess_threshold,
         jitter=args.jitter, seed=args.seed, process_std=args.process_std,
-        channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress)
+        channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress,
+        net=args.net)
     write_wind(est, args.out)
     report = {"out": str(args.out), "method": args.method, "samples": int(len(est.df)),
               "seconds": est.seconds, "realtime_factor": est.metadata["realtime_factor"]}
-    if args.method == "apf":
+    if args.method == "net":
+        report.update(net=args.net, training_flights=est.metadata["net_training_flights"])
+        report["held_out"] = not _trained_on(args.flight, report["training_flights"])
+    elif args.method == "apf":
         report.update(mean_ess=float(est.df["ess"].mean()),
                       resampled_fraction=float(est.df["resampled"].mean()),
                       skipped_samples=int(est.df["skipped"].sum()))
@@ -70,7 +74,12 @@ def _handle(args: argparse.Namespace) -> int:
     else:
         line = (f"wind estimate ({args.method}): {report['samples']} samples in "
                 f"{est.seconds:.1f} s ({report['realtime_factor']:.1f} x real time)")
-        if args.method == "apf":
+        if args.method == "net":
+            line += f", net {args.net}"
+            if not report["held_out"]:
+                line += (" - this flight trained the net: a score here is not a held-out "
+                         "one")
+        elif args.method == "apf":
             line += (f", mean ESS {report['mean_ess']:.0f}, resampled "
                      f"{100 * report['resampled_fraction']:.0f} % of samples, skipped "
                      f"{report['skipped_samples']}")
@@ -110,6 +119,14 @@ def _wind_group(subparsers):
     return group.add_subparsers(dest="wind_command", metavar="SUBCOMMAND")
 
 
+def _trained_on(flight, training_flights) -> bool:
+    """Is `flight` one of the net's training flights (same file)?"""
+    from pathlib import Path
+
+    me = Path(flight).resolve()
+    return any(Path(p).resolve() == me for p in training_flights)
+
+
 def register(subparsers) -> None:
     sub = _wind_group(subparsers)
     p = sub.add_parser(
@@ -121,9 +138,13 @@ def register(subparsers) -> None:
     p.add_argument("flight", metavar="FLIGHT", help="flight table (.parquet or .csv)")
     p.add_argument("--model", default="table52",
                    help="calibrated model spec (path or shipped name; default table52)")
-    p.add_argument("--method", choices=("smoother", "apf"), default="smoother",
+    p.add_argument("--method", choices=("smoother", "apf", "net"), default="smoother",
                    help="smoother (default): iterated EKF/RTS smoother with the wind prior "
-                   "learned from the flight; apf: the reference's particle filter (eq 5.17)")
+                   "learned from the flight; apf: the reference's particle filter (eq 5.17); "
+                   "net: a direct wind network (§4.6, --net)")
+    p.add_argument("--net", default=None, metavar="WIND.pt",
+                   help="net: a wind net of `airwake nets train --target wind` "
+                   "(docs/networks.md); its std columns are its validation RMS")
     p.add_argument("--cutoff-hz", type=float, default=None,
                    help="front-end low-pass (6 Hz; below the rotor's 1/rev); apf only: 0 = "
                    "raw flight")

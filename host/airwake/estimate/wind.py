@@ -2,6 +2,7 @@
 
     est = estimate_wind("flight.parquet", model="fitted.toml")          # the smoother
     est = estimate_wind("flight.parquet", model="fitted.toml", method="apf", seed=0)
+    est = estimate_wind("flight.parquet", method="net", net="wind.pt")  # a §4.6 wind net
     est.df            # t_s, wind_vx_m_s ... wind_wz_rad_s, *_std (+ ess, resampled, skipped)
     score_wind(est.df, flight_df)   # error, correlation, 90 % coverage vs truth_wind_*
     write_wind(est, "wind.parquet")
@@ -11,9 +12,12 @@ for the smoother by default; match other tables by `t_s`): `t_s`; the posterior 
 `wind_vx_m_s`, `wind_vy_m_s`, `wind_vz_m_s`, `wind_wx_rad_s`, `wind_wy_rad_s`,
 `wind_wz_rad_s` (eq 5.3, body axes, at the main-rotor hub; w is the rotation
 coefficient, curl = 2 w) and their posterior std `<name>_std` (the mean-flow ones
-include the INS velocity error); the APF adds `ess`, `resampled` and `skipped`. Parquet
-metadata (key "airwake"): method, model spec, flight, front end, the learned prior and
-channel noise (smoother) or particles, sigma, resampler, seed (APF).
+include the INS velocity error); the APF adds `ess`, `resampled` and `skipped`. A wind
+net (`airwake.nets.wind_net`, method "net") estimates per flight sample (150 Hz) and has
+no posterior: its `<name>_std` is the net's RMS on its own validation blocks (the model
+card), a typical error rather than a per-sample one. Parquet metadata (key "airwake"):
+method, model spec (or net file), flight, front end, the learned prior and channel noise
+(smoother) or particles, sigma, resampler, seed (APF) or the net's card (net).
 """
 
 from __future__ import annotations
@@ -47,7 +51,7 @@ class WindEstimate:
     result: object = None  # its SmootherResult
 
 
-METHODS = ("smoother", "apf")
+METHODS = ("smoother", "apf", "net")
 # VN-200 datasheet: velocity accuracy 0.05 m/s (1 sigma). The wind is the air velocity
 # over the ground, so the INS velocity error goes one to one into v (not into w).
 INS_VELOCITY_STD_M_S = 0.05
@@ -65,7 +69,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   resampler: str = "systematic", ess_threshold: float | None = None,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
                   channel_scale=None, steps: int | None = None,
-                  progress: bool = False) -> WindEstimate:
+                  progress: bool = False, net=None) -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -74,7 +78,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     or 'roulette' / 'multinomial' = the reference, every sample unless ess_threshold is
     given). Both read the front end's low-passed, decimated samples
     (`airwake.estimate.prefilter`: cutoff_hz 6, rate_hz 15 for the smoother and 30 for the
-    APF; cutoff_hz=0 feeds the APF the raw flight as the reference did)."""
+    APF; cutoff_hz=0 feeds the APF the raw flight as the reference did); "net": a direct
+    wind network (`net`: its .pt file or the loaded net; `model` unused) per flight sample."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -86,6 +91,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     if not (np.isfinite(ins_velocity_std) and ins_velocity_std >= 0):
         raise WindEstimationError(
             f"--ins-velocity-std {ins_velocity_std!r}: must be a number >= 0")
+    if (method == "net") != (net is not None):
+        raise WindEstimationError("--method net needs --net WIND.pt (and --net needs "
+                                  "--method net)")
+    if method == "net":
+        return _run_net(load_flight(flight), net, ins_velocity_std)
     heli = load_model(model)
     ft = load_flight(flight)
     try:
@@ -256,6 +266,49 @@ def _run_apf(heli, data, cutoff_hz, rate_hz, ins_velocity_std, n_particles, sigm
         "channel_scale": [float(v) for v in wm.scale],
     }
     return df, extra, seconds
+
+
+def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
+    """A direct wind net (§4.6) over the flight: its estimate per sample; std = the net's
+    validation RMS per output (its card), the INS velocity error added like the others."""
+    from pathlib import Path
+
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.nets.model import NetFileError, load_net
+    from airwake.nets.wind_net import predict_wind
+    from airwake.record.flight_table import FlightTableError, flight_fingerprint
+
+    path = str(net) if isinstance(net, str | Path) else "<net>"
+    t0 = time.perf_counter()
+    try:
+        loaded = load_net(net) if isinstance(net, str | Path) else net
+        est = predict_wind(loaded, ft)
+    except (NetFileError, FlightTableError) as exc:
+        raise WindEstimationError(f"{path}: {exc}") from None
+    seconds = time.perf_counter() - t0
+    card = loaded.card
+    rms = card["validation_rms"]
+    std = np.tile([rms[n]["net"] for n in WIND_NAMES], (len(est), 1))
+    df = _frame(est["t_s"].to_numpy(float), est[list(WIND_NAMES)].to_numpy(float), std,
+                ins_velocity_std)
+    t = df["t_s"].to_numpy(float)
+    span = float(t[-1] - t[0]) if t.size > 1 else 0.0
+    meta = {
+        "source": "airwake wind estimate",
+        "method": "net",
+        "flight": str(getattr(ft, "path", "") or ""),
+        "net": path,
+        "net_training_flights": [f["path"] for f in card.get("training_flights", [])],
+        "net_validation_rms": rms,
+        "std_is": "the net's validation RMS per output (model card), INS error added",
+        "frame": "body axes at the main-rotor hub (eq 5.3)",
+        "ins_velocity_std_m_s": float(ins_velocity_std),
+        "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),
+        "calibration_envelope": None,
+        "seconds": seconds,
+        "realtime_factor": span / seconds if seconds > 0 else 0.0,
+    }
+    return WindEstimate(df, meta, seconds)
 
 
 def _rotor_radius(heli) -> float:

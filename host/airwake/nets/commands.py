@@ -30,12 +30,15 @@ def register(subparsers) -> None:
                        "train/validation/test split, fit the linear ARX baseline on the same "
                        "rows, and save weights + model card to NET.pt.")
     t.add_argument("flights", nargs="+", metavar="FLIGHT", help="flight tables (.parquet/.csv)")
-    t.add_argument("--target", choices=("rates", "accel"), default="rates")
+    t.add_argument("--target", choices=("rates", "accel", "wind"), default="rates",
+                   help="rates (p, q, r), accel (pdot, qdot), or wind: a direct wind net "
+                   "(§4.6) on simulated flights' truth_wind_*, used by `airwake wind "
+                   "estimate --method net`")
     t.add_argument("--out", required=True, metavar="NET.pt")
     t.add_argument("--trainer", choices=("adamw", "pso"), default="adamw")
     t.add_argument("--seed", type=int, default=0)
-    t.add_argument("--hidden", default="16,8", metavar="H1,H2",
-                   help="hidden layer sizes of each axis' MLP (default 16,8)")
+    t.add_argument("--hidden", default=None, metavar="H1,H2",
+                   help="hidden layer sizes of each axis' MLP (default 16,8; wind 32,16)")
     t.add_argument("--line-window-s", type=float, default=None, help="eq 2.1 history (0.5 s)")
     t.add_argument("--rate-lag", type=int, default=None, metavar="SAMPLES",
                    help="previous rates fed back, in samples (rates: 1, accel: 0)")
@@ -133,12 +136,15 @@ def _train(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.suffix != ".pt" or not out.parent.is_dir():
         raise NetFileError(f"--out {out}: needs a .pt file in an existing folder")
+    spec = args.hidden or ("32,16" if args.target == "wind" else "16,8")
     try:
-        hidden = tuple(int(h) for h in args.hidden.split(",") if h.strip())
+        hidden = tuple(int(h) for h in spec.split(",") if h.strip())
         if not hidden or min(hidden) < 1:
             raise ValueError
     except ValueError:
         raise NetFileError(f"--hidden {args.hidden!r}: expected sizes like 16,8") from None
+    if args.target == "wind":
+        return _train_wind(args, out, hidden)
     fkw = {"rate_lag_samples": DEFAULT_RATE_LAG[args.target] if args.rate_lag is None
            else args.rate_lag}
     if args.line_window_s is not None:
@@ -185,6 +191,44 @@ def _train(args: argparse.Namespace) -> int:
     return 0
 
 
+# the rate / acceleration nets' options a wind net does not take
+_NOT_WIND = {"trainer": "adamw", "line_window_s": None, "rate_lag": None, "rate_history": None,
+             "pilot_only": False, "train_target": "measured", "arx_ridge": "1e-3",
+             "per_axis": False, "max_epochs": None, "inputs": None, "from_s": None,
+             "to_s": None}
+
+
+def _train_wind(args: argparse.Namespace, out, hidden) -> int:
+    """`nets train --target wind`: nets.wind_net on simulated flights' truth."""
+    from airwake.nets import save_net
+    from airwake.nets.model import NetFileError
+    from airwake.nets.split import SplitConfig
+    from airwake.nets.wind_net import train_wind_net
+
+    given = [f"--{k.replace('_', '-')}" for k, v in _NOT_WIND.items() if getattr(args, k) != v]
+    if given:
+        raise NetFileError(f"--target wind: {', '.join(given)} do not apply to a wind net "
+                           "(docs/networks.md)")
+    if not args.quiet:
+        print(f"training a wind net on {len(args.flights)} flight(s) ...", file=sys.stderr)
+    try:
+        split = SplitConfig(**({"block_s": args.block_s} if args.block_s else {}))
+        net = train_wind_net(args.flights, seed=args.seed, hidden=hidden, split=split)
+    except ValueError as exc:
+        raise NetFileError(f"nets train: {exc}") from None
+    save_net(net, out)
+    if args.json:
+        print(json.dumps(net.card, indent=2, sort_keys=True))
+        return 0
+    card = net.card
+    print(f"wind net (adamw, seed {args.seed}): {len(args.flights)} flight(s), "
+          f"{card['training_rows']} training rows, {card['train_seconds']:.1f} s")
+    print("validation RMS (net / its ARX skip): " + ", ".join(
+        f"{o} {v['net']:.3f} / {v['arx']:.3f}" for o, v in card["validation_rms"].items()))
+    print(f"wrote {out}")
+    return 0
+
+
 def format_scores(scores: dict, unit: str, title: str) -> str:
     """A small text table: model x axis, RMS / MAE, measured and low-passed target."""
     lines = [f"{title}: {scores['rows']} rows, RMS / MAE in {unit}"]
@@ -206,6 +250,11 @@ def _evaluate(args: argparse.Namespace) -> int:
     from airwake.nets import evaluate_net, load_net, predict
 
     net = load_net(args.net)
+    if net.card.get("target") == "wind":
+        from airwake.nets.model import NetFileError
+
+        raise NetFileError(f"{args.net} is a wind net: score it with `airwake wind estimate "
+                           "FLIGHT --method net --net NET.pt --score --out WIND.parquet`")
     flights = _load_flights(args.flights, net.card["target"], net.card["input_source"],
                             args.from_s, args.to_s)
     from airwake.nets.evaluate import as_net_flight

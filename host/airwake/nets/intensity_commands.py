@@ -101,6 +101,9 @@ def run_airwake(args) -> dict:
     except ValueError as exc:
         raise NetFileError(f"--std-window-s: {exc}") from None
     net = None if args.no_net else load_net(args.net)
+    if net is not None and net.card.get("target") == "wind":
+        raise NetFileError(f"{args.net} is a wind net: A_ω needs a rate or acceleration "
+                           "net's residuals")
     table = _load_table(args.flight)
     if args.score and not _is_simulated(table):
         raise FlightTableError(f"--score: {args.flight} is not a simulated flight (its metadata "
