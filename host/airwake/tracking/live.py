@@ -61,7 +61,11 @@ POSE_SCHEMA = {
         "gyro_bias_rad_s": _VEC3,
         "accel_bias_m_s2": _VEC3,
         "valid": {"type": "boolean",
-                  "description": "an update accepted within the dropout time"},
+                  "description": "an update accepted within the dropout time, and the "
+                                 "LOSA slot choice not ambiguous"},
+        "slot_ambiguous": {"type": "boolean",
+                           "description": "the LOSA slots re-acquired without a clear "
+                                          "winner, not yet confirmed by a 0.3 m move"},
         "accepted": {"type": "integer"}, "gated": {"type": "integer"},
         "reacquired": {"type": "integer"}, "late": {"type": "integer"},
         "predictions": {"type": "integer"},
@@ -155,8 +159,10 @@ class LiveTracker:
             n = len(same)
             t_s = sum(e[0] for e in same) / n
             pos = [sum(e[1][i] for e in same) / n for i in range(3)]
-            self.ekf.update_position(t_s, pos,
-                                     lever_arm_body_m=LED_RADIUS_M * LED_DIRECTIONS_BODY[led])
+            res = self.ekf.update_position(
+                t_s, pos, lever_arm_body_m=LED_RADIUS_M * LED_DIRECTIONS_BODY[led])
+            # an ambiguous slot choice is confirmed by motion, as offline (run_pose_ekf)
+            self.slots.confirm(pos, res.outcome == "accepted")
 
     def _peaks(self, t_s: float, msg) -> None:
         led = self.active_led
@@ -226,9 +232,12 @@ class LiveTracker:
         return self.ekf is not None
 
     def valid(self) -> bool:
-        """Started, and an update accepted within the configured dropout time."""
+        """Started, an update accepted within the configured dropout time, and the LOSA
+        slots not on an unconfirmed ambiguous choice (`losa.SlotResolver`: a wrong one
+        puts the track metres off, self-consistently, until motion tells)."""
         e = self.ekf
-        return e is not None and e.t_s - e.last_accept_s <= self.config.dropout_s
+        return (e is not None and e.t_s - e.last_accept_s <= self.config.dropout_s
+                and not self.slots.ambiguous)
 
     def position(self, now_s: float, max_age_s: float) -> tuple[float, float, float] | None:
         """The marker centre (tracker frame, m) when `valid()` and the state is at most
@@ -247,7 +256,8 @@ class LiveTracker:
                 "quat_wxyz": e.quat.tolist(), "pos_sigma_m": d[P_].tolist(),
                 "vel_sigma_m_s": d[V_].tolist(), "att_sigma_rad": d[TH].tolist(),
                 "gyro_bias_rad_s": e.gyro_bias.tolist(), "accel_bias_m_s2": e.accel_bias.tolist(),
-                "valid": self.valid(), "accepted": c.accepted, "gated": c.gated,
+                "valid": self.valid(), "slot_ambiguous": self.slots.ambiguous,
+                "accepted": c.accepted, "gated": c.gated,
                 "reacquired": c.reacquired, "late": c.late, "predictions": c.predictions}
 
     def status(self) -> dict:
@@ -263,7 +273,7 @@ class LiveTracker:
                                 for v in np.diag(e.P)[P_].tolist()],
                 "accepted": c.accepted, "gated": c.gated, "reacquired": c.reacquired,
                 "late": c.late, "triangulated": self.triangulated, "restarts": self.restarts,
-                "slot_corrections": self.slots.resolved}
+                "slot_corrections": self.slots.resolved, "slot_ambiguous": self.slots.ambiguous}
 
 
 __all__ = ["LiveTracker", "POSE_SCHEMA"]
