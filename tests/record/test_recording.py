@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import errno
+import json
 import math
 import os
 import re
@@ -192,3 +193,32 @@ def test_refuses_to_overwrite_a_recording(tmp_path):
     with pytest.raises(RecordingError, match="not empty"):
         RecordingWriter(tmp_path / "rec", {})
     shutil.rmtree(tmp_path / "rec")
+
+
+@pytest.mark.parametrize("closed", [True, False])
+def test_recover_keeps_the_json_channels_schemas(tmp_path, closed):
+    # /host/pose and /host/airwake_intensity carry their JSON schema; a recovered (copied)
+    # recording keeps it, from an indexed segment and from an unfinished one alike
+    from airwake.record.reader import recover_recording
+    from airwake.tracking.live import POSE_SCHEMA
+    from mcap.reader import make_reader
+
+    w = write_messages(tmp_path / "rec", 20, 10)
+    for i in range(20):
+        w.json("/host/pose", 3000 + i, {"t_s": i, "valid": True}, POSE_SCHEMA)
+        w.json("/daemon/events", 3000 + i, {"event": "x"})
+    if closed:
+        w.close({})
+    else:
+        w._flush_segment()
+    recover_recording(tmp_path / "rec", tmp_path / "copy")
+    (seg,) = open_recording(tmp_path / "copy").segments
+    with open(seg.path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    by_topic = {c.topic: summary.schemas[c.schema_id] for c in summary.channels.values()
+                if c.schema_id}
+    assert by_topic["/host/pose"].name == "airwake.host.pose"
+    assert json.loads(by_topic["/host/pose"].data) == POSE_SCHEMA
+    assert json.loads(by_topic["/daemon/events"].data) == {"type": "object"}
+    assert by_topic["/rover/ins"].name == "airwake/ins"  # decoded frames as before
+    assert open_recording(tmp_path / "copy").topics()["/host/pose"] == 20

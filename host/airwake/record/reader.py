@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 from mcap.reader import SeekingReader
-from mcap.records import Attachment, Channel, Message, Metadata
+from mcap.records import Attachment, Channel, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 
 from airwake.errors import AirwakeError
@@ -169,21 +169,29 @@ class _Segment:
             return False
 
     def iter_messages(self, topics: set[str] | None) -> Iterator[tuple[str, Message]]:
+        for _schema, channel, message in self.iter_records(topics):
+            yield channel.topic, message
+
+    def iter_records(self, topics: set[str] | None) -> Iterator[tuple[Schema | None, Channel,
+                                                                     Message]]:
+        """(schema or None, channel, message) in file order."""
         if self.info.indexed:
             with self.path.open("rb") as f:
                 reader = SeekingReader(f)
-                for _schema, channel, message in reader.iter_messages(
-                        topics=None if topics is None else list(topics), log_time_order=False):
-                    yield channel.topic, message
+                yield from reader.iter_messages(
+                    topics=None if topics is None else list(topics), log_time_order=False)
             return
+        schemas: dict[int, Schema] = {}
         channels: dict[int, Channel] = {}
         for rec in _stream_records(self.path):
-            if isinstance(rec, Channel):
+            if isinstance(rec, Schema):
+                schemas[rec.id] = rec
+            elif isinstance(rec, Channel):
                 channels[rec.id] = rec
             elif isinstance(rec, Message):
                 ch = channels.get(rec.channel_id)
                 if ch is not None and (topics is None or ch.topic in topics):
-                    yield ch.topic, rec
+                    yield schemas.get(ch.schema_id), ch, rec
 
 
 class Recording:
@@ -332,8 +340,11 @@ def recover_recording(src, dst) -> Path:
     for name, info in rec.boards.items():
         writer.board(name, info)
     for s in rec._segments:
-        for topic, m in s.iter_messages(None):
-            writer.copy(topic, m.log_time, m.publish_time, bytes(m.data))
+        for schema, channel, m in s.iter_records(None):
+            # a free-form JSON channel keeps its schema (/host/pose, /host/airwake_intensity)
+            js = ((schema.name, schema.encoding, bytes(schema.data))
+                  if schema is not None and channel.message_encoding == "json" else None)
+            writer.copy(channel.topic, m.log_time, m.publish_time, bytes(m.data), js)
     writer.close({"recovered": True, "source_segments": [str(i.path) for i in rec.segments],
                   "source_complete": rec.complete})
     if writer.failed:

@@ -329,8 +329,10 @@ class RecordingWriter:
         seg.writer.add_message(cid, log_ns, json.dumps(obj, default=_jsonable).encode(), log_ns)
         self.messages += 1
 
-    def copy(self, topic: str, log_ns: int, publish_ns: int, data: bytes) -> None:
-        """A message read from another recording, with the channel this writer would use."""
+    def copy(self, topic: str, log_ns: int, publish_ns: int, data: bytes,
+             json_schema: tuple[str, str, bytes] | None = None) -> None:
+        """A message read from another recording, with the channel this writer would use;
+        a JSON channel gets `json_schema` (name, encoding, data: the source's) if given."""
         if self._segment is None:
             return
         if topic.startswith("/raw/"):
@@ -341,8 +343,8 @@ class RecordingWriter:
             if info is not None and topic != "/host/tracker_position":
                 cid = self._decoded_channel(topic, info)
             else:
-                cid = self._channel(topic, "json", (f"airwake{topic.replace('/', '.')}",
-                                                    "jsonschema", b'{"type": "object"}'))
+                cid = self._channel(topic, "json", json_schema or (
+                    f"airwake{topic.replace('/', '.')}", "jsonschema", b'{"type": "object"}'))
         self._segment.writer.add_message(cid, log_ns, data, publish_ns)
         self.messages += 1
 
