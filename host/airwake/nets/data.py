@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -29,6 +28,7 @@ import pandas as pd
 from airwake.record.flight_table import (
     FlightTableError,
     flight_fingerprint,
+    read_flight_table,
     validate_flight_table,
 )
 
@@ -85,21 +85,7 @@ class NetFlight:
 
 def read_table(path) -> pd.DataFrame:
     """A Parquet or CSV flight table as a DataFrame, not validated (partial tables)."""
-    p = Path(path)
-    if not p.is_file():
-        raise FlightTableError(f"flight table {p} not found")
-    ext = p.suffix.lower()
-    try:
-        if ext in (".parquet", ".pq"):
-            return pd.read_parquet(p)
-        if ext == ".csv":
-            with p.open() as fh:
-                first = fh.readline()
-            return pd.read_csv(p, skiprows=1 if first.startswith("#") else 0)
-    except Exception as exc:  # noqa: BLE001 — a corrupt file is a user error, say which
-        raise FlightTableError(f"{p}: cannot read: {type(exc).__name__}: {exc}") from None
-    raise FlightTableError(
-        f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv")
+    return read_flight_table(path)[0]
 
 
 def _present(df: pd.DataFrame, col: str) -> bool:

@@ -149,8 +149,9 @@ def validate_flight_table(
     return df
 
 
-def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS) -> FlightTable:
-    """Load and validate a Parquet or CSV flight table."""
+def read_flight_table(path) -> tuple[pd.DataFrame, dict]:
+    """(DataFrame, metadata) of a Parquet or CSV flight table, not validated: partial
+    tables (a real flight with NaN stretches) are read as they are."""
     p = Path(path)
     if not p.is_file():
         raise FlightTableError(f"flight table {p} not found")
@@ -180,8 +181,14 @@ def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS) -> Fligh
         raise
     except Exception as exc:  # noqa: BLE001 — a corrupt file is a user error, say which
         raise FlightTableError(f"{p}: cannot read: {type(exc).__name__}: {exc}") from None
-    validate_flight_table(df, str(p), required)
-    return FlightTable(df, metadata, p)
+    return df, metadata
+
+
+def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS) -> FlightTable:
+    """Load and validate a Parquet or CSV flight table."""
+    df, metadata = read_flight_table(path)
+    validate_flight_table(df, str(path), required)
+    return FlightTable(df, metadata, Path(path))
 
 
 def write_flight_table(df: pd.DataFrame, path, metadata: Mapping | None = None) -> Path:
