@@ -216,18 +216,24 @@ def test_every_estimate_channel_is_plotted_thinned(page):
             page.outbox.put(("json", "/host/airwake_intensity", i, None,
                              {"t_s": 10 + i / 100, "a_omega": 0.5, "omega_s": 0.1,
                               "resid_norm": 0.2, "valid": True}))
-            page.outbox.put(("json", "/host/wind", i, None, {"t_s": 10 + i / 100,
-                                                              "wind_ned_m_s": [1, 2, 3]}))
+            page.outbox.put(("json", "/host/future", i, None, {"t_s": 10 + i / 100,
+                                                                "wind_ned_m_s": [1, 2, 3]}))
+            page.outbox.put(("json", "/host/wind", i, None, {
+                "t_s": 10 + i / 100, "wind_vx_m_s": 1.0, "wind_vy_m_s": 2.0,
+                "wind_vz_m_s": 3.0, "wind_wx_rad_s": 0.1, "valid": True}))
         got: dict = {}
         end = time.monotonic() + 5
-        while time.monotonic() < end and len(got.get("/host/wind", {}).get("t", [])) < 20:
+        while time.monotonic() < end and min(
+                len(got.get(c, {}).get("t", [])) for c in ("/host/future", "/host/wind")) < 20:
             for topic, cols in es.next().get("points", {}).items():
                 got.setdefault(topic, {"t": []})["t"] += cols["t"]
                 got[topic].update({k: v for k, v in cols["f"].items()})
         a = got["/host/airwake_intensity"]
         assert 18 <= len(a["t"]) <= 21  # 20 Hz of the 100 Hz samples
         assert set(a) == {"t", "a_omega", "omega_s", "resid_norm"}
-        assert {"wind_ned_m_s[0]", "wind_ned_m_s[2]"} <= set(got["/host/wind"])
+        assert {"wind_ned_m_s[0]", "wind_ned_m_s[2]"} <= set(got["/host/future"])
+        # the live wind (--wind-net): its mean flow
+        assert set(got["/host/wind"]) == {"t", "wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"}
     finally:
         es.close()
 

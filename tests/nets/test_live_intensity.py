@@ -101,4 +101,34 @@ def test_no_row_before_the_first_valid_pilot_input(rate_net):
     live = LiveIntensity(net)
     live.on_pilot_inputs(0.0, Pilot((1500,) * 5, 0x0E))  # channel 1 invalid
     live.on_ins(0.0, Ins((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    # a row waits for the pilot frame after it (the base's port may be late) ...
+    assert live.step(force=True) == [] and live.status()["skipped"] == 0
+    # ... at most max_wait_s of newer INS rows: then, with no pilot frame yet, it is dropped
+    live.on_ins(live.max_wait_s + 0.01, Ins((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
     assert live.step(force=True) == [] and live.status()["skipped"] == 1
+
+
+def test_rows_take_the_pilot_inputs_at_their_time_whatever_port_comes_first(rate_net):
+    # the base's frames arrive over another port, often after the rover's rows they
+    # bracket: a row waits for the frame after it, then gets the export's interpolation
+    net, _ = rate_net
+    live = LiveIntensity(net)
+    row = Ins((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    live.on_pilot_inputs(0.00, Pilot((1400, 1500, 1500, 1500, 1500), 0x1F))
+    for t in (0.005, 0.010, 0.015):  # rover rows before the next pilot frame arrives
+        live.on_ins(t, row)
+    live._complete()
+    assert live.pending == 0 and len(live.waiting) == 3
+    live.on_pilot_inputs(0.02, Pilot((1600, 1500, 1500, 1500, 1500), 0x1F))
+    live._complete()
+    assert live.pending == 3 and not live.waiting and live.status()["held"] == 0
+    want = DEFAULT_RIGGING.pwm_to_blade_pitch(
+        np.array([[1400 + 200 * t / 0.02, 1500, 1500, 1500, 1500] for t in (0.005, 0.01, 0.015)]))
+    got = np.array(live.rows)[:, 1:5]
+    np.testing.assert_allclose(got, want[:, [BLADE_PITCH_COLUMNS.index(c) for c in (
+        "delta_lat_rad", "delta_lon_rad", "delta_col_rad", "delta_ped_rad")]], atol=1e-12)
+    # the base lost: after max_wait_s of newer rows a row holds the last frame's inputs
+    live.on_ins(0.03, row)
+    live.on_ins(0.03 + live.max_wait_s + 0.01, row)
+    live._complete()
+    assert live.status()["held"] == 1 and len(live.waiting) == 1

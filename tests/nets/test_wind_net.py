@@ -99,3 +99,61 @@ def test_wind_net_cli_refuses_what_does_not_apply(truth_world_flight, tmp_path, 
                  str(tmp_path / "w.parquet")]) == 2
     assert "--method net needs --net" in capsys.readouterr().err
     assert not (tmp_path / "w.parquet").exists()
+
+
+def test_live_wind_equals_predict_wind_once_its_history_is_filled(wind_net, truth_world_flight):
+    # what the daemon records on /host/wind must be the estimate the export gives
+    import math
+    from collections import namedtuple
+
+    from airwake.nets.live_wind import WIND_SCHEMA, LiveWind
+    from airwake.record.rigging import BLADE_PITCH_COLUMNS, DEFAULT_RIGGING
+
+    Ins = namedtuple("Ins", "ypr_deg angular_rate_frd_rad_s vel_ned_m_s accel_frd_m_s2")
+    Pilot = namedtuple("Pilot", "pwm_us valid_mask")
+    df = pd.read_parquet(truth_world_flight("ship_airwake_b0", 5, 60.0)).iloc[:1200]
+    df = df.reset_index(drop=True)
+    pwm = df[[f"pwm_ch{c}_us" for c in range(1, 6)]].to_numpy()
+    pitch = DEFAULT_RIGGING.pwm_to_blade_pitch(pwm)  # the live path's blade pitch
+    for j, name in enumerate(BLADE_PITCH_COLUMNS):
+        df[name] = pitch[:, j]
+    offline = predict_wind(wind_net, df)
+    live = LiveWind(wind_net, batch_s=0.2)
+    out, lags = [], []
+    for row in df.itertuples():
+        live.on_pilot_inputs(row.t_s, Pilot(tuple(pwm[row.Index]), 0x1F))
+        live.on_ins(row.t_s, Ins(tuple(math.degrees(v) for v in (row.yaw_rad, row.pitch_rad,
+                                                                  row.roll_rad)),
+                                 (row.p_rad_s, row.q_rad_s, row.r_rad_s),
+                                 (row.vel_n_m_s, row.vel_e_m_s, row.vel_d_m_s),
+                                 (row.acc_x_m_s2, row.acc_y_m_s2, row.acc_z_m_s2)))
+        new = live.step()
+        lags += [row.t_s - s["t_s"] for s in new]
+        out += new
+    out += live.step(force=True)
+    assert len(out) == len(df)
+    got = pd.DataFrame(out)
+    assert np.allclose(got["t_s"], df["t_s"])
+    valid = got["valid"].to_numpy()
+    assert valid[-1] and not valid[0] and valid.sum() > 900
+    # the derivative's half window: 7 rows at 150 Hz, plus the batch
+    assert min(lags) >= 7 / 150 - 1e-9 and max(lags) <= 0.2 + 8 / 150
+    # the last 7 rows (forced: the derivative's edge fit) differ, every other valid row is
+    # the export's estimate
+    inner = valid.copy()
+    inner[-7:] = False
+    for col in WIND_OUTPUTS:
+        assert np.allclose(got[col].to_numpy()[inner], offline[col].to_numpy()[inner],
+                           rtol=1e-5, atol=1e-7), col
+    assert set(WIND_SCHEMA["required"]) <= set(out[-1])
+
+
+def test_live_wind_refuses_a_rate_net(wind_net):
+    from airwake.nets.live_wind import LiveWind
+
+    wind_net.card = {**wind_net.card, "target": "rates"}
+    try:
+        with pytest.raises(NetFileError, match="needs a wind net"):
+            LiveWind(wind_net)
+    finally:
+        wind_net.card["target"] = "wind"

@@ -57,8 +57,8 @@ def _handle(args: argparse.Namespace) -> int:
         ports=[PortSpec.parse(p) for p in args.port], out=Path(args.out),
         status_json=args.status_json, duration_s=args.duration, view=not args.quiet,
         poll_s=args.poll_ms / 1000.0, marker_rate_hz=args.marker_rate_hz,
-        track=not args.no_track, net=args.net, segment_s=args.segment_s,
-        record_metadata=meta, live=args.live, foxglove=args.foxglove,
+        track=not args.no_track, net=args.net, wind_net=args.wind_net,
+        segment_s=args.segment_s, record_metadata=meta, live=args.live, foxglove=args.foxglove,
         # the page updates at >= 2 Hz with the very snapshot --status-json writes
         status_period_s=0.5 if args.live is not None else 1.0)
     return Daemon(opts).run()
@@ -91,6 +91,9 @@ def register(subparsers) -> None:
     p.add_argument("--net", metavar="NET.pt", default=None,
                    help="a rate net (airwake nets train): live airwake intensity A_ω per "
                    "rover INS sample, recorded on /host/airwake_intensity (docs/networks.md)")
+    p.add_argument("--wind-net", metavar="WIND.pt", default=None,
+                   help="a wind net (airwake nets train --target wind): the live eq 5.3 wind "
+                   "per rover INS sample, recorded on /host/wind (docs/networks.md)")
     p.add_argument("--live", metavar="[HOST:]PORT",
                    help="serve a read-only live page (link health, recording, estimates) on "
                    "PORT, loopback unless HOST is named (e.g. 0.0.0.0:8080); beyond the "

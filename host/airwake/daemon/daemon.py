@@ -18,7 +18,9 @@ LOSA tracker present, `marker_command` at 60 Hz to the marker's port, and (unles
 `track` is off) the live pose EKF (`tracking.live`) on the marker IMU and LOSA peaks,
 recorded on `/host/pose` and feeding the marker loop's position. With `net` (a rate
 net, `airwake nets train`), the live airwake intensity (`nets.live`) on the rover's INS
-and the base's pilot inputs, A_ω per INS sample recorded on `/host/airwake_intensity`.
+and the base's pilot inputs, A_ω per INS sample recorded on `/host/airwake_intensity`;
+with `wind_net` (`airwake nets train --target wind`) the live wind (`nets.live_wind`) on
+the same rows, recorded on `/host/wind`.
 """
 
 from __future__ import annotations
@@ -82,6 +84,7 @@ class DaemonOptions:
     marker_rate_hz: float = 60.0
     track: bool = True  # the live pose EKF (runs once marker and LOSA frames arrive)
     net: str | None = None  # a rate net (.pt): live A_ω on /host/airwake_intensity
+    wind_net: str | None = None  # a wind net (.pt): the live eq 5.3 wind on /host/wind
     flush_s: float = 0.1  # recording.FLUSH_S: what a crash may lose (docs/daemon.md)
     segment_s: float = 600.0
     record_metadata: dict = field(default_factory=dict)  # e.g. antenna offsets
@@ -151,6 +154,17 @@ class Daemon:
                 "input_source": card["input_source"], "rate_hz": card["rate_hz"],
                 "training_flights": [f.get("path") for f in card.get("training_flights", [])],
                 "intensity": self.intensity.config.to_dict()}}
+        self.wind = None
+        if options.wind_net:
+            from airwake.nets.live_wind import LiveWind
+            from airwake.nets.model import load_net
+
+            self.wind = LiveWind(load_net(options.wind_net))
+            card = self.wind.net.card
+            net_meta["live_wind_net"] = {
+                "path": str(options.wind_net), "rate_hz": card["rate_hz"],
+                "training_flights": [f.get("path") for f in card.get("training_flights", [])],
+                "validation_rms": card.get("validation_rms")}
         self.live = None
         if options.live is not None or options.foxglove is not None:
             from airwake.daemon.live_outputs import LiveOutputs
@@ -239,6 +253,8 @@ class Daemon:
                 self._track()
             if self.intensity is not None:
                 self._airwake_intensity()
+            if self.wind is not None:
+                self._wind()
             self._periodic(time.monotonic())
             self._reap_lost()
             spare = poll - (time.monotonic() - t0)
@@ -313,16 +329,23 @@ class Daemon:
             if self.tracker is not None and origin == MARKER_ID:
                 self.tracker.on_imu(mapped_us * 1e-6, f.msg)
         elif mid == INS.id:
+            # the nets' rows on the export's timeline: the declared stamp latency removed
+            t_row = (mapped_us - b.stamp_latency_us.get("ins", 0)) * 1e-6
             if self.intensity is not None and origin == ROVER_ID:
-                self.intensity.on_ins(mapped_us * 1e-6, f.msg)
+                self.intensity.on_ins(t_row, f.msg)
             elif self.intensity is not None and origin == BASE_ID:
                 self.intensity.on_ship_ins(mapped_us * 1e-6, f.msg)
+            if self.wind is not None and origin == ROVER_ID:
+                self.wind.on_ins(t_row, f.msg)
         elif mid == RTK_BASELINE.id:
             if self.intensity is not None and origin == ROVER_ID:
                 self.intensity.on_baseline(mapped_us * 1e-6, f.msg)
         elif mid == PILOT_INPUTS.id:
+            t_in = (mapped_us - b.stamp_latency_us.get("pilot_inputs", 0)) * 1e-6
             if self.intensity is not None and origin == BASE_ID:
-                self.intensity.on_pilot_inputs(mapped_us * 1e-6, f.msg)
+                self.intensity.on_pilot_inputs(t_in, f.msg)
+            if self.wind is not None and origin == BASE_ID:
+                self.wind.on_pilot_inputs(t_in, f.msg)
         elif mid == STAMP_LATENCY.id:
             if b.declare_stamp(f.msg) and b.identified:  # into the recording's board metadata
                 self.recorder.board(b.name, {**b.identity(), "first_seen_s": b.first_seen_s})
@@ -363,6 +386,20 @@ class Daemon:
         for s in samples:
             self.recorder.json("/host/airwake_intensity", int(s["t_s"] * 1e9), s,
                                INTENSITY_SCHEMA)
+
+    def _wind(self) -> None:
+        """Run the wind net on the pending INS rows; record the wind per sample."""
+        from airwake.nets.live_wind import WIND_SCHEMA
+
+        try:
+            samples = self.wind.step()
+        except Exception as exc:  # noqa: BLE001 -- the net must never stop the ingest
+            self.event("wind_failed", f"live wind: {type(exc).__name__}: {exc}; it stays "
+                       "off, recording continues", loud=True)
+            self.wind = None
+            return
+        for s in samples:
+            self.recorder.json("/host/wind", int(s["t_s"] * 1e9), s, WIND_SCHEMA)
 
     def _heartbeat(self, ps: PortState, b: BoardLink, hb, now_s: float) -> None:
         first = not b.identified
@@ -491,6 +528,7 @@ class Daemon:
                and self.tracker.triangulated else {}),
             **({"airwake_intensity": self.intensity.status()} if self.intensity is not None
                else {}),
+            **({"wind": self.wind.status()} if self.wind is not None else {}),
             **({"live": self.live.status()} if self.live is not None else {}),
             "events": list(self.events)[-5:],
         }

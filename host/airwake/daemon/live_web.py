@@ -52,6 +52,7 @@ PLOT_FIELDS = {
     # ship_x/y_m: the track in the ship frame (the page's A_ω-along-the-track plot)
     "/host/airwake_intensity": ("a_omega", "omega_s", "resid_norm", "ship_x_m", "ship_y_m"),
     "/host/tracker_position": ("pos_tracker_m",),
+    "/host/wind": ("wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"),
 }
 OTHER_FIELDS_MAX = 3
 

@@ -2,9 +2,9 @@
 "Live airwake intensity", docs/networks.md).
 
 Inputs, each with its host-timeline time (the board stamp mapped by `link.clock`):
-- base `pilot_inputs` (50 Hz): the pilot's RC pulse widths, turned into blade pitch by
-  the rigging (`record.rigging`) as the flight builder does; the latest valid frame is
-  held (the export interpolates between frames: at 50 Hz the two differ by < 20 ms);
+- base `pilot_inputs` (50 Hz): the pilot's RC pulse widths, interpolated to each INS
+  row's time and turned into blade pitch by the rigging (`record.rigging`) as the flight
+  builder does (`PilotAligned`: a row waits for the pilot frame after it);
 - rover `ins` (150 Hz): roll, pitch from `ypr_deg`, p, q, r from the bias-compensated
   angular rate — one row per sample, as the flight table's rows.
 
@@ -63,7 +63,71 @@ INTENSITY_SCHEMA = {
 }
 
 
-class LiveIntensity:
+class PilotAligned:
+    """The INS rows of a live net with the pilot's inputs at their time, as the export
+    gives them: the RC pulse widths of channels 1-4 interpolated linearly between the
+    base's `pilot_inputs` frames (frames missing a channel are left out), then the blade
+    pitch through the rigging (or the pulse widths, `use_pwm`), in the nets' order
+    (delta_lat, delta_lon, delta_col, delta_ped). A row waits (`waiting`) until the first
+    pilot frame after it has arrived: the base's frames come over another port, often
+    later than the rover's. After `max_wait_s` of newer INS rows (the base lost, its
+    link stalled) a row takes the latest frame's inputs instead (held, counted in
+    `held`). Rows before the first pilot frame are skipped. Subclasses set `self.rows`
+    (a deque of `(t_s, *inputs, *values)`), `self.pending` and `self.seen`."""
+
+    def __init__(self, rigging: PwmRigging, use_pwm: bool, max_wait_s: float = 0.2) -> None:
+        self.rigging = rigging
+        self.use_pwm = use_pwm
+        self.max_wait_s = max_wait_s
+        self.frames: deque = deque(maxlen=16)  # (t_s, pwm (4,)) in time order
+        self.waiting: deque = deque()  # (t_s, values) of INS rows without inputs yet
+        self.newest_ins_s = -math.inf
+        self.skipped = 0
+        self.held = 0
+
+    def on_pilot_inputs(self, t_s: float, msg) -> None:
+        if (int(msg.valid_mask) & _PWM_VALID) != _PWM_VALID:
+            return
+        pwm = np.asarray(msg.pwm_us[:4], float)
+        if not np.all(np.isfinite(pwm)) or (self.frames and t_s <= self.frames[-1][0]):
+            return
+        self.frames.append((t_s, pwm))
+
+    def _queue(self, t_s: float, values: tuple, extra: tuple = ()) -> None:
+        """An INS row: `values` must be finite (else skipped), `extra` rides along."""
+        if not all(math.isfinite(v) for v in (t_s, *values)):
+            self.skipped += 1
+            return
+        self.waiting.append((t_s, (*values, *extra)))
+        self.newest_ins_s = max(self.newest_ins_s, t_s)
+
+    def _inputs_at(self, t_s: float) -> np.ndarray:
+        ts = np.array([f[0] for f in self.frames])
+        pwm = np.array([f[1] for f in self.frames])
+        at = np.array([np.interp(t_s, ts, pwm[:, c]) for c in range(4)])
+        return at if self.use_pwm else self.rigging.pwm_to_blade_pitch(at)[0, _FROM_RIGGING]
+
+    def _complete(self) -> None:
+        """Give the waiting rows whose inputs are known (or waited too long) their inputs."""
+        while self.waiting:
+            t_s, values = self.waiting[0]
+            if not self.frames:
+                if t_s < self.newest_ins_s - self.max_wait_s:
+                    self.waiting.popleft()
+                    self.skipped += 1
+                    continue
+                return
+            if t_s > self.frames[-1][0]:
+                if t_s >= self.newest_ins_s - self.max_wait_s:
+                    return  # the next pilot frame is still to come
+                self.held += 1  # interpolation holds the last frame's value
+            self.waiting.popleft()
+            self.rows.append((t_s, *self._inputs_at(t_s), *values))
+            self.pending = min(self.pending + 1, len(self.rows))
+            self.seen += 1
+
+
+class LiveIntensity(PilotAligned):
     """Feeds a rate `PilotNet` from live frames (module doc). `on_pilot_inputs`,
     `on_ins` take one frame each; `step()` returns the new samples' dicts (schema above)
     once `batch_s` of INS rows are pending."""
@@ -82,12 +146,11 @@ class LiveIntensity:
         # one thread: the daemon's loop must not wait on an intra-op pool (on a loaded
         # 2-core machine a 2-thread forward of 100 rows took 60 ms instead of 0.3 ms)
         torch.set_num_threads(1)
+        super().__init__(rigging, card["input_source"] == "pwm")
         self.net = net
         self.config = config or IntensityConfig()
-        self.rigging = rigging
         self.features = FeatureConfig.from_dict(card["feature_config"])
         self.rate_hz = float(card["rate_hz"])
-        self.use_pwm = card["input_source"] == "pwm"
         self.n_std = samples_in(self.config.std_window_s, self.rate_hz)
         history = int(math.ceil(self.features.history_s(self.rate_hz) * self.rate_hz)) + 1
         self.warmup = history + self.n_std  # rows before the first valid A_ω
@@ -96,19 +159,10 @@ class LiveIntensity:
         self.rows: deque = deque(maxlen=self.keep + 10 * self.batch)
         self.pending = 0
         self.seen = 0
-        self.inputs: np.ndarray | None = None
         self.samples_out = 0
-        self.skipped = 0
         self.base_antenna_ship_m = (0.0, 0.0)
         self.ship_yaw_rad: float | None = None
         self.baseline_ne_m: tuple[float, float] | None = None
-
-    def on_pilot_inputs(self, t_s: float, msg) -> None:
-        if (int(msg.valid_mask) & _PWM_VALID) != _PWM_VALID:
-            return
-        pwm = np.asarray(msg.pwm_us[:4], float)
-        self.inputs = pwm if self.use_pwm else \
-            self.rigging.pwm_to_blade_pitch(pwm)[0, _FROM_RIGGING]
 
     def on_ship_ins(self, t_s: float, msg) -> None:
         """The base's INS: the ship's heading (for the track in the ship frame)."""
@@ -132,21 +186,13 @@ class LiveIntensity:
                 self.base_antenna_ship_m[1] - s * n + c * e)
 
     def on_ins(self, t_s: float, msg) -> None:
-        if self.inputs is None:
-            self.skipped += 1
-            return
         yaw, pitch, roll = (math.radians(v) for v in msg.ypr_deg)
         rates = [float(v) for v in msg.angular_rate_frd_rad_s]
-        row = (t_s, *self.inputs, roll, pitch, *rates)
-        if not all(math.isfinite(v) for v in row):
-            self.skipped += 1
-            return
-        self.rows.append(row + self.ship_xy())
-        self.pending = min(self.pending + 1, len(self.rows))
-        self.seen += 1
+        self._queue(t_s, (roll, pitch, *rates), self.ship_xy())  # NaN until known
 
     def step(self, force: bool = False) -> list[dict]:
         """Intensity of the pending rows when a batch is full (or `force`)."""
+        self._complete()
         if self.pending == 0 or (self.pending < self.batch and not force):
             return []
         n_new = self.pending
@@ -176,5 +222,5 @@ class LiveIntensity:
         return out
 
     def status(self) -> dict:
-        return {"samples": self.samples_out, "skipped": self.skipped,
+        return {"samples": self.samples_out, "skipped": self.skipped, "held": self.held,
                 "net_rate_hz": self.rate_hz, "batch": self.batch}

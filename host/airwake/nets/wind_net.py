@@ -70,6 +70,22 @@ def _df(table):
     return load_flight_table(table, required=()).df, str(table)
 
 
+def wind_feature_matrix(inputs, roll_rad, pitch_rad, rates_rad_s, motion, rate_hz: float,
+                        feature_config: FeatureConfig, config: WindNetConfig):
+    """(X (T, F), names (F,)) from arrays: the pilot-input features, then the MOTION
+    channels (T, 8) and their causal low-pass (the daemon's live wind calls this too)."""
+    x, names = build_features(inputs, roll_rad, pitch_rad, rates_rad_s, rate_hz,
+                              feature_config)
+    lp = gaussian_lowpass(motion, rate_hz, config.context_sigma_s, config.context_length_s)
+    return (np.column_stack([x, motion, lp]),
+            [*names, *MOTION, *(f"{c}_context" for c in MOTION)])
+
+
+def history_s(feature_config: FeatureConfig, config: WindNetConfig, rate_hz: float) -> float:
+    """How far back the features of one sample reach (s)."""
+    return max(feature_config.history_s(rate_hz), config.context_length_s)
+
+
 def wind_features(table, feature_config: FeatureConfig, config: WindNetConfig):
     """(t_s (T,), X (T, F), names (F,), rate_hz, truth (T, 6) or None) of one flight."""
     from airwake.nets.data import net_flight_from_df
@@ -83,12 +99,9 @@ def wind_features(table, feature_config: FeatureConfig, config: WindNetConfig):
     # the net flight may have cropped or dropped nothing: align by time
     motion = np.column_stack([np.interp(flight.t_s, df["t_s"].to_numpy(float),
                                         df[c].to_numpy(float)) for c in MOTION])
-    x, names = build_features(flight.inputs, flight.roll_rad, flight.pitch_rad,
-                              flight.rates_rad_s, flight.rate_hz, feature_config)
-    lp = gaussian_lowpass(motion, flight.rate_hz, config.context_sigma_s,
-                          config.context_length_s)
-    x = np.column_stack([x, motion, lp])
-    names = [*names, *MOTION, *(f"{c}_context" for c in MOTION)]
+    x, names = wind_feature_matrix(flight.inputs, flight.roll_rad, flight.pitch_rad,
+                                   flight.rates_rad_s, motion, flight.rate_hz, feature_config,
+                                   config)
     truth = None
     if all(c in df.columns for c in WIND_TRUTH):
         truth = np.column_stack([np.interp(flight.t_s, df["t_s"].to_numpy(float),
@@ -114,8 +127,7 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
         if truth is None:
             raise FlightTableError(f"{_df(table)[1]}: no truth_wind_* columns: a wind net "
                                    "trains on simulated flights")
-        lab = block_split(t, split, max(fcfg.history_s(rate_hz),
-                                        config.context_length_s), rng)
+        lab = block_split(t, split, history_s(fcfg, config, rate_hz), rng)
         lab = np.where(lab == TEST, TRAIN, lab)  # other flights are the test set
         xs.append(x)
         ys.append(truth)
