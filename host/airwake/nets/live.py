@@ -79,7 +79,7 @@ class PilotAligned:
         self.rigging = rigging
         self.use_pwm = use_pwm
         self.max_wait_s = max_wait_s
-        self.frames: deque = deque(maxlen=16)  # (t_s, pwm (4,)) in time order
+        self.frames: deque = deque(maxlen=4096)  # (t_s, pwm (4,)), time order; pruned
         self.waiting: deque = deque()  # (t_s, values) of INS rows without inputs yet
         self.newest_ins_s = -math.inf
         self.skipped = 0
@@ -101,30 +101,37 @@ class PilotAligned:
         self.waiting.append((t_s, (*values, *extra)))
         self.newest_ins_s = max(self.newest_ins_s, t_s)
 
-    def _inputs_at(self, t_s: float) -> np.ndarray:
-        ts = np.array([f[0] for f in self.frames])
-        pwm = np.array([f[1] for f in self.frames])
-        at = np.array([np.interp(t_s, ts, pwm[:, c]) for c in range(4)])
-        return at if self.use_pwm else self.rigging.pwm_to_blade_pitch(at)[0, _FROM_RIGGING]
+    def _inputs_at(self, t_s: np.ndarray) -> np.ndarray:
+        """(n, 4) inputs at the times t_s (n,): one interpolation and rigging per batch."""
+        ts = np.fromiter((f[0] for f in self.frames), float, len(self.frames))
+        pwm = np.stack([f[1] for f in self.frames])
+        at = np.stack([np.interp(t_s, ts, pwm[:, c]) for c in range(4)], axis=-1)
+        return at if self.use_pwm else self.rigging.pwm_to_blade_pitch(at)[:, _FROM_RIGGING]
 
     def _complete(self) -> None:
         """Give the waiting rows whose inputs are known (or waited too long) their inputs."""
-        while self.waiting:
-            t_s, values = self.waiting[0]
-            if not self.frames:
-                if t_s < self.newest_ins_s - self.max_wait_s:
-                    self.waiting.popleft()
-                    self.skipped += 1
-                    continue
-                return
-            if t_s > self.frames[-1][0]:
-                if t_s >= self.newest_ins_s - self.max_wait_s:
-                    return  # the next pilot frame is still to come
-                self.held += 1  # interpolation holds the last frame's value
-            self.waiting.popleft()
-            self.rows.append((t_s, *self._inputs_at(t_s), *values))
-            self.pending = min(self.pending + 1, len(self.rows))
-            self.seen += 1
+        ready = 0
+        last = self.frames[-1][0] if self.frames else -math.inf
+        for t_s, _ in self.waiting:  # time order within the rover's stream
+            if t_s > last and t_s >= self.newest_ins_s - self.max_wait_s:
+                break  # the next pilot frame is still to come
+            ready += 1
+        if not ready:
+            return
+        rows = [self.waiting.popleft() for _ in range(ready)]
+        if not self.frames:  # waited too long before any pilot frame: nothing to pair
+            self.skipped += ready
+            return
+        self.held += sum(t > last for t, _ in rows)  # interpolation holds the last frame
+        inputs = self._inputs_at(np.array([t for t, _ in rows]))
+        for (t_s, values), u in zip(rows, inputs, strict=True):
+            self.rows.append((t_s, *u, *values))
+        self.pending = min(self.pending + ready, len(self.rows))
+        self.seen += ready
+        # frames no later row can need: all before the one at or before the next row
+        upto = self.waiting[0][0] if self.waiting else rows[-1][0]
+        while len(self.frames) > 1 and self.frames[1][0] <= upto:
+            self.frames.popleft()
 
 
 class LiveIntensity(PilotAligned):
@@ -192,7 +199,8 @@ class LiveIntensity(PilotAligned):
 
     def step(self, force: bool = False) -> list[dict]:
         """Intensity of the pending rows when a batch is full (or `force`)."""
-        self._complete()
+        if force or self.pending + len(self.waiting) >= self.batch:  # pair in batches
+            self._complete()
         if self.pending == 0 or (self.pending < self.batch and not force):
             return []
         n_new = self.pending

@@ -105,7 +105,8 @@ class LiveWind(PilotAligned):
     def step(self, force: bool = False) -> list[dict]:
         """Estimates of the pending rows when a batch is full (or `force`: every pending
         row, the last half window with the derivative's edge fit: a flight's end)."""
-        self._complete()
+        if force or self.pending + len(self.waiting) >= self.batch + self.half:
+            self._complete()  # pair rows with their inputs in batches
         ready = self.pending if force else self.pending - self.half
         if ready <= 0 or (ready < self.batch and not force):
             return []
