@@ -139,12 +139,15 @@ class Daemon:
 
             self.tracker = LiveTracker()
         self.intensity = None
+        self.nets: list[tuple[str, str, dict, str]] = []  # (attribute, topic, schema, label)
         net_meta = {}
         if options.net:
-            from airwake.nets.live import LiveIntensity
+            from airwake.nets.live import INTENSITY_SCHEMA, LiveIntensity
             from airwake.nets.model import load_net
 
             self.intensity = LiveIntensity(load_net(options.net))
+            self.nets.append(("intensity", "/host/airwake_intensity", INTENSITY_SCHEMA,
+                              "airwake intensity"))
             xy = options.record_metadata.get("base_antenna_ship_xy_m")
             if xy is not None:  # the track in the ship frame from the base antenna's place
                 self.intensity.base_antenna_ship_m = (float(xy[0]), float(xy[1]))
@@ -156,10 +159,11 @@ class Daemon:
                 "intensity": self.intensity.config.to_dict()}}
         self.wind = None
         if options.wind_net:
-            from airwake.nets.live_wind import LiveWind
+            from airwake.nets.live_wind import WIND_SCHEMA, LiveWind
             from airwake.nets.model import load_net
 
             self.wind = LiveWind(load_net(options.wind_net))
+            self.nets.append(("wind", "/host/wind", WIND_SCHEMA, "wind"))
             card = self.wind.net.card
             net_meta["live_wind_net"] = {
                 "path": str(options.wind_net), "rate_hz": card["rate_hz"],
@@ -251,10 +255,7 @@ class Daemon:
                 self._read(key.data)
             if self.tracker is not None:
                 self._track()
-            if self.intensity is not None:
-                self._airwake_intensity()
-            if self.wind is not None:
-                self._wind()
+            self._live_nets()
             self._periodic(time.monotonic())
             self._reap_lost()
             spare = poll - (time.monotonic() - t0)
@@ -372,34 +373,22 @@ class Daemon:
             self.event("tracker_started", "pose EKF started from the marker's calibration and "
                        f"LOSA: position {self.tracker.status()['pos_tracker_m']} m")
 
-    def _airwake_intensity(self) -> None:
-        """Run the rate net on the pending INS rows; record A_ω per sample."""
-        from airwake.nets.live import INTENSITY_SCHEMA
-
-        try:
-            samples = self.intensity.step()
-        except Exception as exc:  # noqa: BLE001 -- the net must never stop the ingest
-            self.event("intensity_failed", f"live airwake intensity: {type(exc).__name__}: "
-                       f"{exc}; it stays off, recording continues", loud=True)
-            self.intensity = None
-            return
-        for s in samples:
-            self.recorder.json("/host/airwake_intensity", int(s["t_s"] * 1e9), s,
-                               INTENSITY_SCHEMA)
-
-    def _wind(self) -> None:
-        """Run the wind net on the pending INS rows; record the wind per sample."""
-        from airwake.nets.live_wind import WIND_SCHEMA
-
-        try:
-            samples = self.wind.step()
-        except Exception as exc:  # noqa: BLE001 -- the net must never stop the ingest
-            self.event("wind_failed", f"live wind: {type(exc).__name__}: {exc}; it stays "
-                       "off, recording continues", loud=True)
-            self.wind = None
-            return
-        for s in samples:
-            self.recorder.json("/host/wind", int(s["t_s"] * 1e9), s, WIND_SCHEMA)
+    def _live_nets(self) -> None:
+        """Run each live net (--net, --wind-net) on its pending INS rows; record each
+        sample on its channel. A net that raises is turned off, loudly; ingest goes on."""
+        for attr, topic, schema, label in self.nets:
+            net = getattr(self, attr)
+            if net is None:
+                continue
+            try:
+                samples = net.step()
+            except Exception as exc:  # noqa: BLE001 -- a net must never stop the ingest
+                self.event(f"{attr}_failed", f"live {label}: {type(exc).__name__}: {exc}; it "
+                           "stays off, recording continues", loud=True)
+                setattr(self, attr, None)
+                continue
+            for s in samples:
+                self.recorder.json(topic, int(s["t_s"] * 1e9), s, schema)
 
     def _heartbeat(self, ps: PortState, b: BoardLink, hb, now_s: float) -> None:
         first = not b.identified
