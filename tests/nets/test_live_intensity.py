@@ -132,3 +132,35 @@ def test_rows_take_the_pilot_inputs_at_their_time_whatever_port_comes_first(rate
     live.on_ins(0.03 + live.max_wait_s + 0.01, row)
     live._complete()
     assert live.status()["held"] == 1 and len(live.waiting) == 1
+
+
+def test_a_live_net_that_raises_is_turned_off_and_the_recording_goes_on(tmp_path):
+    # the daemon's loop over its live nets: a net that fails is switched off loudly, the
+    # other nets and the recording go on
+    import io
+
+    from airwake.daemon.daemon import Daemon, DaemonOptions
+    from airwake.record.reader import open_recording
+
+    class Broken:
+        def step(self):
+            raise RuntimeError("boom")
+
+    class Fine:
+        def step(self):
+            return [{"t_s": 1.0, "wind_vx_m_s": 0.5, "valid": True}]
+
+    err = io.StringIO()
+    d = Daemon(DaemonOptions(ports=[], out=tmp_path / "rec", view=False, track=False),
+               stderr=err)
+    d.intensity, d.wind = Broken(), Fine()
+    d.nets = [("intensity", "/host/airwake_intensity", {"type": "object"}, "airwake intensity"),
+              ("wind", "/host/wind", {"type": "object"}, "wind")]
+    d._live_nets()
+    d._live_nets()
+    assert d.intensity is None and isinstance(d.wind, Fine)
+    assert [e["kind"] for e in d.events].count("intensity_failed") == 1
+    assert "live airwake intensity: RuntimeError: boom" in err.getvalue()
+    d.recorder.close()
+    topics = open_recording(tmp_path / "rec").topics()
+    assert topics["/host/wind"] == 2 and "/host/airwake_intensity" not in topics
