@@ -2,7 +2,8 @@
 
     airwake sim run --scenario NAME_OR_FILE [--duration S] [--seed N] [--stepped | --wall]
                     --out REC [--boards losa,marker,rover,base] [--live [HOST:]PORT]
-                    [--foxglove [HOST:]PORT] [--json] [--quiet]
+                    [--foxglove [HOST:]PORT] [--net NET.pt] [--wind-net WIND.pt]
+                    [--json] [--quiet]
 
 Registered by `hil_sim/commands.py` (`register_run(sub)`); the work is `sil.SilRun`.
 """
@@ -54,6 +55,12 @@ def register_run(sub) -> None:
     p.add_argument("--foxglove", metavar="[HOST:]PORT",
                    help="the daemon's Foxglove WebSocket server on PORT (airwake daemon "
                    "--foxglove)")
+    p.add_argument("--net", metavar="NET.pt", default=None,
+                   help="the daemon's live airwake intensity from this rate net (airwake "
+                   "daemon --net)")
+    p.add_argument("--wind-net", metavar="WIND.pt", default=None,
+                   help="the daemon's live wind from this wind net (airwake daemon "
+                   "--wind-net)")
     p.add_argument("--json", action="store_true", help="print the run summary as JSON")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=_run)
@@ -109,7 +116,7 @@ def _run(args: argparse.Namespace) -> int:
     show = not (args.quiet or args.json)
     run = SilRun(scenario, out=args.out, seed=seed, duration_s=duration, mode=args.mode,
                  rig=rig, flavour="asan" if args.asan else "release", survey=survey,
-                 live=args.live, foxglove=args.foxglove,
+                 live=args.live, foxglove=args.foxglove, net=args.net, wind_net=args.wind_net,
                  progress=Progress(f"sil {scenario.name} ({args.mode})", duration, unit=" s",
                                    enabled=show),
                  world_progress=Progress(f"truth world {scenario.name}", duration, unit=" s",

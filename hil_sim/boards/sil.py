@@ -116,7 +116,7 @@ class SilRun:
                  rig: SilRig | None = None, faults=None, flavour: str = "release",
                  log_frames: bool = False, keep_delivered: bool = False,
                  progress=None, world_progress=None, survey=None, live: str | None = None,
-                 foxglove: str | None = None) -> None:
+                 foxglove: str | None = None, net=None, wind_net=None) -> None:
         if mode not in MODES:
             raise SilError(f"mode {mode!r}: expected one of {', '.join(MODES)}")
         self.scenario = scenario
@@ -124,6 +124,12 @@ class SilRun:
         self.survey = survey  # a SurveyConfig: the marker carried with an anemometer
         self.live = live  # the daemon's --live [HOST:]PORT (its page; docs/daemon.md)
         self.foxglove = foxglove  # the daemon's --foxglove [HOST:]PORT
+        # the daemon's live nets (--net, --wind-net): absolute, the daemon runs elsewhere
+        self.nets = {flag: Path(path).resolve() for flag, path in
+                     (("--net", net), ("--wind-net", wind_net)) if path is not None}
+        for flag, path in self.nets.items():
+            if not path.is_file():
+                raise SilError(f"{flag} {path}: no such network file")
         self.live_urls: list[str] = []  # where they listen, from the daemon's log
         if survey is not None:
             from hil_sim.world.anemometer_survey import survey_duration_s
@@ -328,6 +334,8 @@ class SilRun:
             cmd += ["--live", self.live]
         if self.foxglove is not None:
             cmd += ["--foxglove", self.foxglove]
+        for flag, path in self.nets.items():
+            cmd += [flag, str(path)]
         return cmd
 
     def _start_daemon(self, build_config) -> None:

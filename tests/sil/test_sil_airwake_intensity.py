@@ -46,14 +46,11 @@ def net_flight(truth_world_flight, tmp_path_factory):
     assert main(["nets", "train", str(ship), "--target", "wind", "--out", str(wind),
                  "--quiet"]) == 0
 
-    class NetSilRun(SilRun):
-        def daemon_command(self, build_config):
-            return super().daemon_command(build_config) + ["--net", str(net),
-                                                           "--wind-net", str(wind)]
 
     (d / "sc.toml").write_text(SCENARIO)
     sc = load_scenario(d / "sc.toml")
-    run = NetSilRun(sc, out=d / "rec", duration_s=SIL_S, rig=rig_for(sc, ("rover", "base")))
+    run = SilRun(sc, out=d / "rec", duration_s=SIL_S, rig=rig_for(sc, ("rover", "base")),
+                 net=net, wind_net=wind)  # `airwake sim run --net --wind-net`
     try:
         run.start()
         while not run.done:
@@ -156,3 +153,13 @@ def test_live_wind_matches_the_wind_net_on_the_exported_flight(net_flight):
     # (1-4 % of its output's spread on seed 5; 0.07-0.29 m/s, 1/s before the inputs were
     # interpolated by time and the INS latency removed)
     assert np.all(diff < 0.08 * spread), diff / spread
+
+
+def test_sim_run_refuses_a_missing_net_file(tmp_path, capsys):
+    # a typo in a net's path: one line naming it, before any board starts
+    assert main(["sim", "run", "--scenario", "still_air_calibration", "--duration", "1",
+                 "--out", str(tmp_path / "rec"), "--wind-net", str(tmp_path / "none.pt"),
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "--wind-net" in err and "none.pt: no such network file" in err, err
+    assert not (tmp_path / "rec").exists()
