@@ -37,6 +37,7 @@ from airwake.nets.wind_net import (
 from airwake.record.differentiate import (
     DERIVATIVE_POLYORDER,
     DERIVATIVE_WINDOW_S,
+    derivative_window,
     smooth_derivative,
 )
 from airwake.record.flight_builder import euler_to_dcm
@@ -82,10 +83,8 @@ class LiveWind(PilotAligned):
         self.features = FeatureConfig.from_dict(card["feature_config"])
         self.config = WindNetConfig(**card["wind_net_config"])
         self.rate_hz = float(card["rate_hz"])
-        # the derivative's half window, in rows (the export's odd window at this rate)
-        window = max(int(round(DERIVATIVE_WINDOW_S * self.rate_hz)) | 1,
-                     DERIVATIVE_POLYORDER + 2 | 1)
-        self.half = window // 2
+        # the derivative's half window, in rows (the export's window at this rate)
+        self.half = derivative_window(1.0 / self.rate_hz) // 2
         history = int(math.ceil(history_s(self.features, self.config, self.rate_hz)
                                 * self.rate_hz)) + 1
         # rows before the first valid estimate; the past rows a batch reads (the history,

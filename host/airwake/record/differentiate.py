@@ -37,6 +37,13 @@ def split_runs(t_s: np.ndarray, max_gap_factor: float = 3.0) -> list[slice]:
     return [slice(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
+def derivative_window(dt_s: float, window_s: float = DERIVATIVE_WINDOW_S,
+                      polyorder: int = DERIVATIVE_POLYORDER) -> int:
+    """The odd number of samples the derivative fits at a sample spacing dt_s."""
+    window = int(round(window_s / dt_s)) | 1  # odd
+    return max(window, polyorder + 2 | 1)
+
+
 def smooth_derivative(t_s: np.ndarray, x: np.ndarray, window_s: float = DERIVATIVE_WINDOW_S,
                       polyorder: int = DERIVATIVE_POLYORDER,
                       max_gap_factor: float = 3.0) -> np.ndarray:
@@ -54,8 +61,7 @@ def smooth_derivative(t_s: np.ndarray, x: np.ndarray, window_s: float = DERIVATI
         if n < 2:
             continue
         dt = float(np.median(np.diff(tr)))
-        window = int(round(window_s / dt)) | 1  # odd
-        window = max(window, polyorder + 2 | 1)
+        window = derivative_window(dt, window_s, polyorder)
         if n < window:
             out[run] = np.gradient(xr, tr, axis=0)
             continue
