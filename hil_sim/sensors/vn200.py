@@ -26,6 +26,7 @@ follows and the tests use.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -148,9 +149,20 @@ class Vn200Config:
     latency_s: float = 0.0005  # sample instant -> first byte on the wire
     baud: int = 921600
     ins_status: int = INS_MODE_TRACKING | INS_GNSS_FIX
+    # 0: the IMU outputs are the truth at the output instants (an ideal anti-alias);
+    # > 0: the IMU samples at this rate (VN-200 data sheet: 800 Hz) and each output is
+    # the mean of the samples since the previous output, so vibration above half the
+    # output rate folds down as it does in the real device
+    imu_sample_rate_hz: float = 0.0
+    solution_delay_s: float = 0.0  # attitude / velocity / position of t - delay (INS filter)
 
     def __post_init__(self) -> None:
         check_positive("rate_hz", self.rate_hz)
+        check_nonnegative("imu_sample_rate_hz", self.imu_sample_rate_hz)
+        if 0 < self.imu_sample_rate_hz < self.rate_hz:
+            raise ValueError(f"imu_sample_rate_hz = {self.imu_sample_rate_hz!r}: must be 0 "
+                             f"or >= rate_hz ({self.rate_hz})")
+        check_nonnegative("solution_delay_s", self.solution_delay_s)
         for name in ("attitude_error_deg", "position_error_m", "velocity_error_m_s"):
             for v in getattr(self, name):
                 check_nonnegative(name, v)
@@ -209,6 +221,13 @@ class Vn200:
         c = self.config
         t = self.sample_times(trajectory)
         truth = trajectory.at(t)
+        rates, accel = truth.rates_body_rad_s, truth.specific_force_body_m_s2
+        if c.imu_sample_rate_hz > 0:
+            rates, accel = _averaged_imu(trajectory, t, c.imu_sample_rate_hz, c.rate_hz)
+        if c.solution_delay_s > 0:
+            truth = dataclasses.replace(truth, **{
+                k: getattr(trajectory.at(t - c.solution_delay_s), k) for k in (
+                    "pos_ned_m", "vel_ned_m_s", "quat_wxyz", "euler_rad")})
         errs = imu_errors(t, truth.rotor_azimuth_rad, c.imu, self.rng)
 
         att_err_deg = noise.gauss_markov(t, c.attitude_error_deg, c.attitude_error_tau_s,
@@ -226,10 +245,10 @@ class Vn200:
             t_s=t,
             time_startup_ns=np.round(device_s * 1e9).astype(np.uint64),
             ypr_deg=ypr,
-            rates_body_rad_s=truth.rates_body_rad_s + errs.gyro_rad_s,
+            rates_body_rad_s=rates + errs.gyro_rad_s,
             lla=lla,
             vel_ned_m_s=truth.vel_ned_m_s + vel_err,
-            accel_body_m_s2=truth.specific_force_body_m_s2 + errs.accel_m_s2,
+            accel_body_m_s2=accel + errs.accel_m_s2,
             ins_status=np.full(t.size, c.ins_status, dtype=np.uint16),
             imu_errors=errs,
         )
@@ -239,6 +258,26 @@ class Vn200:
         packets = encode_vn200_packets(samples)
         return ByteStream.from_fixed_size(samples.t_s + self.config.latency_s, packets,
                                           self.config.baud)
+
+
+def _averaged_imu(trajectory: Trajectory, t_out: np.ndarray, imu_rate_hz: float,
+                  out_rate_hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """(rates, specific force) (K, 3) at the output instants t_out: the mean of the IMU's
+    samples (at imu_rate_hz, on its own grid) in (previous output, this output]."""
+    t0 = trajectory.t_s[0]
+    ti = t0 + np.arange(int(np.floor((trajectory.t_s[-1] - t0) * imu_rate_hz)) + 1) / imu_rate_hz
+    sampled = trajectory.at(ti)
+    out = []
+    idx = np.searchsorted(ti, t_out, side="right")  # samples up to and including t_out
+    for x in (sampled.rates_body_rad_s, sampled.specific_force_body_m_s2):
+        c = np.vstack([np.zeros((1, 3)), np.cumsum(x, axis=0)])
+        hi = idx
+        lo = np.concatenate([[max(idx[0] - int(round(imu_rate_hz / out_rate_hz)), 0)], idx[:-1]])
+        lo = np.minimum(lo, hi - 1)
+        lo = np.maximum(lo, 0)
+        count = np.maximum(hi - lo, 1)
+        out.append((c[hi] - c[lo]) / count[:, None])
+    return out[0], out[1]
 
 
 def encode_vn200_packets(samples: Vn200Samples) -> np.ndarray:

@@ -136,6 +136,32 @@ class PilotGains:
 
 
 @dataclass(frozen=True)
+class CrossoverConfig:
+    """The crossover pilot's human parameters (crossover_pilot.py); defaults mid-range of McRuer &
+    Krendel 1974 for a practised RC pilot watching from ~10 m."""
+
+    reaction_delay_s: float = 0.22
+    neuromuscular_lag_s: float = 0.10
+    attitude_crossover_rad_s: float = 3.5
+    yaw_crossover_rad_s: float = 2.0
+    heave_crossover_rad_s: float = 1.2
+    position_crossover_rad_s: float = 0.8
+    max_lead_s: float = 1.0
+    max_bank_deg: float = 20.0
+    trim_time_s: float = 2.0
+    position_noise_m: float = 0.08
+    velocity_noise_m_s: float = 0.10
+    attitude_noise_deg: float = 0.7
+    rate_noise_deg_s: float = 3.0
+    heading_noise_deg: float = 1.5
+    remnant_tau_s: float = 0.4
+
+    def __post_init__(self) -> None:
+        for name, value in self.__dict__.items():
+            check_positive(name, value)
+
+
+@dataclass(frozen=True)
 class PilotConfig:
     """The `[pilot]` table: frame, start, heading, gains and the segments."""
 
@@ -143,6 +169,7 @@ class PilotConfig:
     start_m: Vec3 = (0.0, 0.0, -2.5)
     yaw_deg: float | None = None  # None: 0 in "ned", the ship's heading in "ship"
     gains: PilotGains = field(default_factory=PilotGains)
+    crossover: CrossoverConfig = field(default_factory=CrossoverConfig)
     segments: tuple[Segment, ...] = (Segment("hover", duration_s=1.0),)
 
     def __post_init__(self) -> None:
@@ -178,7 +205,7 @@ def pilot_from_dict(table: Mapping[str, Any] | None, where: str = "pilot") -> Pi
                              f"{', '.join(SEGMENT_TYPES)}")
         out.append(config_from_dict(Segment, s, here))
     return PilotConfig(frame=cfg.frame, start_m=cfg.start_m, yaw_deg=cfg.yaw_deg,
-                       gains=cfg.gains, segments=tuple(out))
+                       gains=cfg.gains, crossover=cfg.crossover, segments=tuple(out))
 
 
 # ---------------------------------------------------------------------------
@@ -331,18 +358,16 @@ class Pilot:
     `pilot.command(t)` is the first-order-hold command (4,) at any time.
     """
 
-    def __init__(self, model, trim, reference: Reference, gains: PilotGains, *,
-                 body_slice: slice, wind=None, env=None) -> None:
-        from airwake.heli.trim import linearize
-
-        self.model = model
+    def __init__(self, a: np.ndarray, b: np.ndarray, trim, reference: Reference,
+                 gains: PilotGains, *, body_slice: slice) -> None:
+        """`a` (S, S), `b` (S, 4): the truth linearised at `trim` (trim.x (S,), trim.u (4,)),
+        its body states [position, body velocity, Euler angles, rates] at `body_slice`."""
         self.trim = trim
         self.ref = reference
         self.gains = gains
         self.body = body_slice
         self.dt = float(np.median(np.diff(reference.t_s))) if reference.t_s.size > 1 else 0.02
-        n = model.n_states
-        a, b = linearize(model, trim.x, trim.u, wind, env)
+        n = a.shape[0]
         b0 = self.body.start
         # integral states: d xi/dt = [pos_n, pos_e, pos_d, yaw] errors
         ni = 4

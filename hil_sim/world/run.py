@@ -27,6 +27,7 @@ does not change the others' noise.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -34,6 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from airwake.errors import AirwakeError
 from airwake.heli import Stepper
+from airwake.heli.trim import linearize
 
 from hil_sim.sensors.rc import RcReceiver, TailServoPwm
 from hil_sim.sensors.rotor import RotorTachometer
@@ -130,8 +132,19 @@ class SimResult:
     ship: Ship | None
     base_truth: Trajectory | None
     pilot_info: dict
+    body12: np.ndarray | None = None  # (N, 12) pos, body velocity, Euler, rates of the CG
+    tail_servo_command_rad: np.ndarray | None = None  # (N,) the gyro's output, if any
+    extra_truth: dict = field(default_factory=dict)  # more truth_* columns at the steps
     timing: dict = field(default_factory=dict)
     _streams: dict | None = None
+
+    @property
+    def body_states(self) -> np.ndarray:
+        """(N, 12) [pos NED, body velocity, roll/pitch/yaw, body rates] of the CG."""
+        if self.body12 is not None:
+            return self.body12
+        b = self.truth_model.model.state_slice(BODY).start
+        return self.states[:, b:b + 12]
 
     @property
     def realtime_factor(self) -> float:
@@ -308,6 +321,8 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     rngs = {name: np.random.default_rng(c) for name, c in zip(RNG_STREAMS, children,
                                                               strict=True)}
     t_start = time.perf_counter()
+    if scenario.helicopter.model == "blade_element":
+        return _run_blade_element(scenario, seed, duration, rngs, t_start, progress, sensors)
 
     truth = build_truth_model(scenario.helicopter.spec, scenario.helicopter.overrides,
                               scenario.hidden)
@@ -347,7 +362,8 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     x_lin[b + 8] = 0.0
     lin_trim = type(tr)(x_lin, tr.u, tr.residual, tr.iterations)
     env0 = {"height_agl_m": np.array([h0])}
-    pilot = Pilot(truth.linear_model(), lin_trim, ref, pc.gains, body_slice=body, wind=w0, env=env0)
+    a_lin, b_lin = linearize(truth.linear_model(), lin_trim.x, lin_trim.u, w0, env0)
+    pilot = make_pilot(scenario, a_lin, b_lin, lin_trim, ref, body, rngs["pilot"])
     pilot.trim = type(tr)(tr.x.copy(), tr.u, tr.residual, tr.iterations)
     ref_pos_ned, ref_vel_ned = frame.to_ned(knots, ref.pos_m, ref.vel_m_s)
     lag = scenario.hidden.enabled().get("servo_lag")
@@ -467,6 +483,120 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     return result
 
 
+# hidden effects the blade-element truth takes on top of its own physics: the sensor-side
+# ones (its rotor, inflow, ground effect, drive and servos are already physical)
+BLADE_ELEMENT_HIDDEN = ("lever_arm", "input_time_skew", "vibration_rectification")
+
+
+def make_pilot(scenario: Scenario, a: np.ndarray, b: np.ndarray, lin_trim, ref,
+               body_slice: slice, rng: np.random.Generator):
+    """The scenario's pilot on the truth's linear model (a, b) at `lin_trim` (x, u)."""
+    if scenario.helicopter.pilot == "crossover":
+        from hil_sim.world.crossover_pilot import CrossoverPilot
+
+        return CrossoverPilot(a, b, lin_trim, ref, scenario.pilot.crossover,
+                              body_slice=body_slice, rng=rng)
+    return Pilot(a, b, lin_trim, ref, scenario.pilot.gains, body_slice=body_slice)
+
+
+def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dict,
+                       t_start: float, progress, sensors: bool) -> SimResult:
+    """run_scenario for `[helicopter] model = "blade_element"` (hil_sim.world.rotorcraft)."""
+    from types import SimpleNamespace
+
+    from hil_sim.sensors.isolator import IsolatorConfig, isolate
+    from hil_sim.world.rotorcraft.flight import fly, measurement_at_cg
+    from hil_sim.world.wind import build_wind_field
+
+    unsupported = [k for k in scenario.hidden.enabled() if k not in BLADE_ELEMENT_HIDDEN]
+    if unsupported:
+        raise SimulationError(
+            f"scenario {scenario.name!r}: hidden effect(s) {', '.join(unsupported)} are not "
+            "added to the blade-element truth: it has that physics of its own (ground and "
+            "deck effect, servos, rotor-speed governor, dynamic inflow); only "
+            f"{', '.join(BLADE_ELEMENT_HIDDEN)} apply")
+    ship = Ship(scenario.ship) if scenario.ship is not None else None
+    field_ = build_wind_field(scenario.wind, rng=rngs["wind"], ship=ship)
+    frame = PlanFrame(scenario.pilot.frame, ship)
+    pc = scenario.pilot
+    rc_timing = scenario.sensors.rc.timing
+    knots = sample_times(0.0, duration + 1.0 / rc_timing.frame_rate_hz,
+                         rc_timing.frame_rate_hz, rc_timing.phase_s)
+    ref = build_reference(pc, knots, rngs["pilot"])
+    ref_pos_ned, ref_vel_ned = frame.to_ned(knots, ref.pos_m, ref.vel_m_s)
+    lag = scenario.hidden.enabled().get("input_time_skew")
+    del lag  # applied to the RC record below
+
+    def pilot_factory(a, b, trim12, trim):
+        lin = trim12.copy()
+        lin[0:3] = 0.0
+        lin[8] = 0.0
+        lin_trim = SimpleNamespace(x=lin, u=trim.delta.copy())
+        pilot = make_pilot(scenario, a, b, lin_trim, ref, slice(0, 12), rngs["pilot"])
+        pilot.trim = SimpleNamespace(x=trim12.copy(), u=trim.delta.copy())
+        return pilot
+
+    flown = fly(scenario, duration, rngs, field_, ship, frame, knots, ref, ref_vel_ned,
+                progress=progress, make_pilot=pilot_factory)
+    t_integrated = time.perf_counter()
+    truth = flown.truth
+    ts = flown.t_s
+    xs = flown.states
+    b12 = flown.body12
+    quat = xs[:, 6:10]
+    rots = euler_to_dcm(b12[:, 6:9])
+    vel_ned = np.einsum("nij,nj->ni", rots, b12[:, 3:6])
+    sf, aa = measurement_at_cg(flown)
+    from hil_sim.world.rotorcraft.dynamics import AUX_TAIL_COMMAND, OMEGA, PSI
+
+    traj = Trajectory.from_states(
+        ts, b12[:, 0:3], vel_ned, quat, b12[:, 9:12], ang_acc_body_rad_s2=aa,
+        specific_force_body_m_s2=sf, rotor_speed_rad_s=xs[:, OMEGA],
+        rotor_azimuth_rad=xs[:, PSI], blade_pitch_rad=flown.commands_rad,
+        height_agl_m=flown.heights_m, ship=ship.trajectory(ts) if ship is not None else None)
+    af = truth.heli.airframe
+    r_imu = truth.imu_position_m
+    lever = scenario.hidden.enabled().get("lever_arm")
+    if lever is not None:
+        r_imu = r_imu + np.asarray(lever.position_m, float)
+    imu_traj = isolate(traj.at_point(r_imu), IsolatorConfig(
+        af["imu.isolator_natural_hz"], af["imu.isolator_damping"]))
+    rectification = scenario.hidden.enabled().get("vibration_rectification")
+    if rectification is not None:
+        imu_traj = with_rectification(imu_traj, rectification, truth.nominal_rotor_speed_rad_s)
+    trim = flown.trim
+    result = SimResult(
+        scenario=scenario, seed=seed, duration_s=duration, truth_model=truth, truth=traj,
+        imu_truth=imu_traj, imu_position_m=r_imu, states=xs, state_names=list(STATE_NAMES),
+        commands_rad=flown.commands_rad, applied_rad=flown.applied_rad,
+        wind_body=flown.wind_body, samples={}, devices={}, ship=ship, base_truth=None,
+        pilot_info={"trim_u_rad": trim.delta.tolist(),
+                    "trim_roll_rad": float(trim.body12[6]),
+                    "trim_pitch_rad": float(trim.body12[7]),
+                    "closed_loop_spectral_radius": getattr(flown.pilot, "closed_loop_radius",
+                                                           float("nan")),
+                    "saturated_frames": flown.pilot.saturated,
+                    "wind_description": field_.describe(),
+                    "reference_pos_ned_m": ref_pos_ned, "reference_t_s": knots},
+        body12=b12, extra_truth=flown.extra_truth,
+        tail_servo_command_rad=flown.aux[:, AUX_TAIL_COMMAND])
+    result.timing["integration"] = t_integrated - t_start
+    if sensors:
+        _measure(result, rngs)
+        result.timing["sensors"] = time.perf_counter() - t_integrated
+    return result
+
+
+STATE_NAMES = ("pos_n_m", "pos_e_m", "pos_d_m", "vel_u_m_s", "vel_v_m_s", "vel_w_m_s",
+               "quat_w", "quat_x", "quat_y", "quat_z", "p_rad_s", "q_rad_s", "r_rad_s",
+               "rotor_azimuth_rad", "rotor_speed_rad_s", "teeter_rad", "teeter_rate_rad_s",
+               "flybar_teeter_rad", "flybar_teeter_rate_rad_s", "inflow_nu0_m_s",
+               "inflow_nux_m_s", "inflow_nuy_m_s", "tail_inflow_m_s", "governor_integral",
+               "servo1_rad", "servo2_rad", "servo3_rad", "tail_servo_rad",
+               "servo1_rate_rad_s", "servo2_rate_rad_s", "servo3_rate_rad_s",
+               "tail_servo_rate_rad_s", "gyro_hold_integral_rad")
+
+
 def _measure(result: SimResult, rngs: dict) -> None:
     """Every device's measured values from the truth (fills samples and devices)."""
     import dataclasses
@@ -475,6 +605,8 @@ def _measure(result: SimResult, rngs: dict) -> None:
     cfg = sc.sensors
     vn_cfg = dataclasses.replace(cfg.vn200, imu=dataclasses.replace(
         cfg.vn200.imu, vibration=vibration_for(cfg)))
+    if sc.helicopter.model == "blade_element":
+        vn_cfg = blade_element_vn200(cfg.vn200, rngs["vn200"])
     d = result.devices
     s = result.samples
     d["vn200"] = Vn200(vn_cfg, rng=rngs["vn200"])
@@ -485,7 +617,12 @@ def _measure(result: SimResult, rngs: dict) -> None:
                               skewed_commands(result.truth.t_s, result.commands_rad,
                                               skew.offset_s))
     d["tail_servo"] = TailServoPwm(cfg.tail_servo, rng=rngs["tail_servo"])
-    s["tail_servo"] = d["tail_servo"].measure(result.truth)
+    servo_traj = result.truth
+    if result.tail_servo_command_rad is not None:  # a yaw gyro drives the tail servo
+        pitch = result.truth.blade_pitch_rad.copy()
+        pitch[:, 3] = result.tail_servo_command_rad
+        servo_traj = dataclasses.replace(result.truth, blade_pitch_rad=pitch)
+    s["tail_servo"] = d["tail_servo"].measure(servo_traj)
     d["rotor"] = RotorTachometer(cfg.rotor, rng=rngs["rotor"])
     s["rotor"] = d["rotor"].measure(result.truth)
     ts = result.truth.t_s
@@ -507,6 +644,34 @@ def _measure(result: SimResult, rngs: dict) -> None:
         d["base_vn200"] = Vn200(cfg.base_vn200, rng=rngs["base_vn200"])
         s["base_vn200"] = d["base_vn200"].measure(
             result.truth.ship.at_point(np.asarray(cfg.base_ins_m, float)))
+
+
+# VN-200 data sheet (VectorNav, VN-200 Rugged GNSS/INS, rev. 2.x): IMU rate 800 Hz; gyro
+# in-run bias stability < 10 deg/h, accelerometer < 0.04 mg. The turn-on residual biases of
+# the compensated outputs (what the INS's online bias estimate leaves) are drawn per flight
+# at class values: gyro 0.01 deg/s, accelerometer 1 mg, 1 sigma per axis.
+VN200_IMU_RATE_HZ = 800.0
+VN200_GYRO_TURN_ON_RAD_S = math.radians(0.01)
+VN200_ACCEL_TURN_ON_M_S2 = 1e-3 * 9.81
+VN200_SOLUTION_DELAY_S = 0.0025  # two IMU samples of filter latency (class value)
+
+
+def blade_element_vn200(config, rng: np.random.Generator):
+    """The rover VN-200 on the blade-element truth: vibration comes from the dynamics (the
+    sinusoidal model is off), the IMU samples at its own rate and averages to the output,
+    turn-on biases drawn per flight, the INS solution a little late."""
+    imu = dataclasses.replace(
+        config.imu, vibration=dataclasses.replace(
+            config.imu.vibration, accel_1p_m_s2=(0.0,) * 3, accel_2p_m_s2=(0.0,) * 3,
+            gyro_1p_rad_s=(0.0,) * 3, gyro_2p_rad_s=(0.0,) * 3),
+        gyro_bias_rad_s=tuple((np.asarray(config.imu.gyro_bias_rad_s) + rng.normal(
+            0.0, VN200_GYRO_TURN_ON_RAD_S, 3)).tolist()),
+        accel_bias_m_s2=tuple((np.asarray(config.imu.accel_bias_m_s2) + rng.normal(
+            0.0, VN200_ACCEL_TURN_ON_M_S2, 3)).tolist()))
+    return dataclasses.replace(
+        config, imu=imu,
+        imu_sample_rate_hz=config.imu_sample_rate_hz or VN200_IMU_RATE_HZ,
+        solution_delay_s=config.solution_delay_s or VN200_SOLUTION_DELAY_S)
 
 
 # ---------------------------------------------------------------------------
@@ -608,8 +773,7 @@ def truth_columns(result: SimResult, t_s: np.ndarray) -> dict:
         return np.stack([np.interp(t_s, t_all, a[:, j]) for j in range(a.shape[1])], -1)
 
     cols = {}
-    b = result.truth_model.model.state_slice(BODY).start
-    body = interp(result.states[:, b:b + 12])
+    body = interp(result.body_states)
     for j, name in enumerate(TRUTH_STATE_COLUMNS):
         cols[f"truth_{name}"] = body[:, j]
     cols["truth_yaw_rad"] = np.pi - np.mod(np.pi - body[:, 8], 2 * np.pi)
@@ -624,6 +788,8 @@ def truth_columns(result: SimResult, t_s: np.ndarray) -> dict:
     applied = interp(result.applied_rad)
     for j, name in enumerate(INPUT_COLUMNS):
         cols[f"truth_{name}"] = applied[:, j]
+    for name, values in result.extra_truth.items():
+        cols[name] = np.interp(t_s, t_all, values)
     return cols
 
 
@@ -648,7 +814,9 @@ def build_sim_flight_table(result: SimResult):
         "scenario_config": sc.describe(),
         "sim": {"rate_hz": sc.rate_hz, "wind_rate_hz": sc.wind_rate_hz,
                 "duration_s": result.duration_s, "site": sc.site.type,
-                "truth_spec": sc.helicopter.spec,
+                "truth_spec": sc.helicopter.spec if sc.helicopter.model == "effects"
+                else result.truth_model.spec, "truth_model": sc.helicopter.model,
+                "pilot_model": sc.helicopter.pilot,
                 "imu_position_m": result.imu_position_m.tolist(),
                 "pilot": {k: v for k, v in result.pilot_info.items()
                           if not isinstance(v, np.ndarray)},
