@@ -1,6 +1,8 @@
 """The truth world never borrows the physics it is meant to test: no module under hil_sim/
 imports the host's discrepancy package or its catalogue of effects (whose formulas the
-hidden effects must not copy), at any depth, in any import form."""
+hidden effects must not copy), and the independent blade-element helicopter
+(hil_sim/world/rotorcraft/) imports nothing of the host's model, calibration, estimators
+or discrepancy workflow — at any depth, in any import form."""
 
 from __future__ import annotations
 
@@ -11,6 +13,9 @@ import pytest
 
 HIL_SIM = Path(__file__).resolve().parents[2] / "hil_sim"
 FORBIDDEN = ("airwake.discrepancy", "airwake.heli.effects.catalogue")
+ROTORCRAFT = HIL_SIM / "world" / "rotorcraft"
+ROTORCRAFT_FORBIDDEN = ("airwake.heli", "airwake.calibrate", "airwake.estimate",
+                        "airwake.discrepancy")
 
 
 def imported_modules(tree: ast.AST) -> list[tuple[int, str]]:
@@ -34,8 +39,8 @@ def imported_modules(tree: ast.AST) -> list[tuple[int, str]]:
     return out
 
 
-def forbidden(name: str) -> bool:
-    return any(name == f or name.startswith(f + ".") for f in FORBIDDEN)
+def forbidden(name: str, banned: tuple[str, ...] = FORBIDDEN) -> bool:
+    return any(name == f or name.startswith(f + ".") for f in banned)
 
 
 def test_the_scan_sees_every_import_form():
@@ -74,3 +79,48 @@ def test_the_scan_covers_the_hidden_effects():
     names = {p.relative_to(HIL_SIM).as_posix() for p in MODULES}
     assert {"world/hidden/ground_effect.py", "world/hidden/servo.py", "world/run.py",
             "world/truth.py"} <= names
+
+
+ROTORCRAFT_MODULES = sorted(ROTORCRAFT.rglob("*.py"))
+
+
+@pytest.mark.parametrize("path", ROTORCRAFT_MODULES,
+                         ids=[str(p.relative_to(HIL_SIM)) for p in ROTORCRAFT_MODULES])
+def test_blade_element_truth_imports_nothing_of_the_host_model(path):
+    tree = ast.parse(path.read_text(), filename=str(path))
+    bad = [f"line {line}: {name}" for line, name in imported_modules(tree)
+           if forbidden(name, ROTORCRAFT_FORBIDDEN)]
+    assert not bad, f"{path.relative_to(HIL_SIM.parent)} imports {bad}"
+
+
+def test_the_rotorcraft_scan_covers_every_part():
+    names = {p.name for p in ROTORCRAFT_MODULES}
+    assert {"main_rotor.py", "flybar.py", "inflow.py", "tail_rotor.py", "fuselage.py",
+            "drive.py", "servos.py", "dynamics.py"} <= names
+    src = "from airwake.heli.trim import linearize\nimport airwake.calibrate.lsq\n"
+    hits = [n for _, n in imported_modules(ast.parse(src)) if forbidden(n, ROTORCRAFT_FORBIDDEN)]
+    assert hits == ["airwake.heli.trim", "airwake.heli.trim.linearize", "airwake.calibrate.lsq"]
+
+
+def test_the_rotorcraft_shares_no_constant_with_the_host_model():
+    """No number of the host's shipped model specs with three or more significant digits
+    appears as a literal in the truth (a copied constant would be shared physics; round
+    one- and two-digit values such as 0.3 coincide by chance and are not counted)."""
+    import re
+    import tomllib
+
+    host_specs = Path(__file__).resolve().parents[2] / "host" / "airwake" / "heli" / "specs"
+    host_values = set()
+    for spec in host_specs.glob("*.toml"):
+        for table in tomllib.loads(spec.read_text()).get("effects", {}).values():
+            for v in table.values():
+                if isinstance(v, float) and len(f"{abs(v):.6g}".replace(".", "").lstrip(
+                        "0")) >= 3:
+                    host_values.add(abs(v))
+    assert host_values, "no host values found: the scan would pass vacuously"
+    shared = []
+    for path in [*ROTORCRAFT_MODULES, *ROTORCRAFT.glob("*.toml")]:
+        for m in re.finditer(r"(?<![\w.])\d+\.\d+(?:e-?\d+)?", path.read_text()):
+            if float(m.group()) in host_values:
+                shared.append(f"{path.name}: {m.group()}")
+    assert not shared, f"host model constants in the truth: {shared}"
