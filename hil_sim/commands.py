@@ -15,13 +15,20 @@ import argparse
 
 
 def add_scenario_arguments(parser: argparse.ArgumentParser) -> None:
-    """--scenario, --duration, --seed (shared by every sim command)."""
+    """--scenario, --duration, --seed, --truth, --pilot (shared by every sim command)."""
     parser.add_argument("--scenario", required=True, metavar="NAME_OR_FILE",
                         help="scenario name (hil_sim/scenarios/NAME.toml) or a .toml path")
     parser.add_argument("--duration", type=float, default=None, metavar="S",
                         help="simulated seconds (default: the scenario's duration_s)")
     parser.add_argument("--seed", type=int, default=None, metavar="N",
                         help="random seed (default: the scenario's seed)")
+    parser.add_argument("--truth", choices=("effects", "blade_element"), default=None,
+                        help="the truth helicopter (default: the scenario's [helicopter] "
+                        "model): the independent blade-element machine, or the effect "
+                        "model with the scenario's hidden effects")
+    parser.add_argument("--pilot", choices=("full_state", "crossover"), default=None,
+                        help="who flies (default: the scenario's [helicopter] pilot): an "
+                        "LQR on the true state, or a human-like crossover-model pilot")
 
 
 def load_scenario_from_args(args):
@@ -35,6 +42,13 @@ def load_scenario_from_args(args):
         raise ScenarioError(f"--seed {args.seed!r}: must be >= 0")
     seed = scenario.seed if args.seed is None else args.seed
     duration = scenario.duration_s if args.duration is None else args.duration
+    changes = {k: v for k, v in (("model", getattr(args, "truth", None)),
+                                 ("pilot", getattr(args, "pilot", None))) if v is not None}
+    if changes:
+        import dataclasses
+
+        scenario = dataclasses.replace(
+            scenario, helicopter=dataclasses.replace(scenario.helicopter, **changes))
     return scenario, seed, duration
 
 

@@ -581,6 +581,7 @@ def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dic
         body12=b12, extra_truth=flown.extra_truth,
         tail_servo_command_rad=flown.aux[:, AUX_TAIL_COMMAND])
     result.timing["integration"] = t_integrated - t_start
+    result.pilot_info["blade_element_timing_s"] = dict(flown.timing)
     if sensors:
         _measure(result, rngs)
         result.timing["sensors"] = time.perf_counter() - t_integrated

@@ -110,6 +110,7 @@ class Flown:
     trim: object
     truth: BladeElementTruth
     extra_truth: dict
+    timing: dict = field(default_factory=dict)  # wall s: "trim", "field", "integrate"
 
 
 def build_truth(scenario) -> BladeElementTruth:
@@ -195,8 +196,12 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
     decision times, `reference` the flight plan on them and `reference_vel_ned` (K, 3) its
     velocity in NED; `make_pilot(a, b, trim12, trim) -> pilot` builds the pilot from the
     quasi-steady linear model at the initial trim."""
+    import time
+
     from hil_sim.world.run import SimulationError
 
+    clock = time.perf_counter
+    t_begin = clock()
     truth = build_truth(scenario)
     heli = truth.heli
     dt = heli.dt
@@ -222,6 +227,8 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
     a, b = heli.linearize(trim, wind_ned_m_s=wind0, ground=ground0)
     trim12 = trim.body12
     pilot = make_pilot(a, b, trim12, trim)
+    t_trimmed = clock()
+    field_s = 0.0
 
     # -- integrate ------------------------------------------------------------------------------
     n = int(round(duration_s / dt))
@@ -253,7 +260,9 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
             nxt = min(nxt, max(int(knot_steps[knot]), i + 1))
         t = i * dt
         t_next = nxt * dt
+        t_field = clock()
         w0, w1, g0, g1 = sampler.snapshots(gk, x, t)
+        field_s += clock() - t_field
         env = heli.env(gk * sampler.dt, (gk + 1) * sampler.dt)
         heli.integrate(x, t, nxt - i, pilot.command(t), pilot.command(t_next), env, w0, w1,
                        g0, g1, xs, aux, i)
@@ -280,6 +289,7 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
     aux[n] = last_aux[0]
     if progress is not None:
         progress.finish()
+    t_flown = clock()
 
     ts = np.arange(n + 1) * dt
     body12 = body_states(xs)
@@ -300,9 +310,11 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
     extra = {"truth_main_rotor_thrust_n": aux[:, AUX_THRUST],
              "truth_main_rotor_power_w": aux[:, AUX_POWER],
              "truth_inflow_m_s": aux[:, AUX_NU0]}
+    timing = {"trim": t_trimmed - t_begin, "field": field_s,
+              "integrate": t_flown - t_trimmed - field_s, "scoring": clock() - t_flown}
     return Flown(t_s=ts, states=xs, body12=body12, aux=aux, commands_rad=cmds,
                  applied_rad=applied, wind_body=wind_body, heights_m=heights, pilot=pilot,
-                 trim=trim, truth=truth, extra_truth=extra)
+                 trim=trim, truth=truth, extra_truth=extra, timing=timing)
 
 
 def measurement_at_cg(flown: Flown) -> tuple[np.ndarray, np.ndarray]:
