@@ -17,9 +17,9 @@ SECTION = "truth"
 def run(quick: bool) -> dict:
     import dataclasses
 
+    import airwake.record.flight_builder  # noqa: F401  (pandas, pyarrow)
     from threadpoolctl import threadpool_limits
 
-    import airwake.record.flight_builder  # noqa: F401  (pandas, pyarrow)
     from hil_sim.world.run import run_scenario
     from hil_sim.world.scenario import load_scenario
 

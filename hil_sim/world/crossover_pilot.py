@@ -39,9 +39,17 @@ hold between decisions, exactly like the full-state pilot (`pilot.Pilot`): same
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
-from hil_sim.world.pilot import COMMAND_MAX, COMMAND_MIN, CrossoverConfig, Reference, wrap_pi
+from hil_sim.world.pilot import (
+    COMMAND_MAX,
+    COMMAND_MIN,
+    CrossoverConfig,
+    HeldCommands,
+    Reference,
+    wrap_pi,
+)
 
 
 class _Remnant:
@@ -58,7 +66,7 @@ class _Remnant:
         return self.state
 
 
-class CrossoverPilot:
+class CrossoverPilot(HeldCommands):
     """The human-like pilot for one flight (module docstring).
 
     `a`, `b`: the truth's linear model at `trim` (trim.x, trim.u), body states at
@@ -116,14 +124,8 @@ class CrossoverPilot:
         self.percepts: list[np.ndarray] = []
         self.integral = np.zeros(4)
         self.output = np.asarray(trim.u, float).copy()
+        self._start_hold(reference, trim.u, self.dt)
         k = reference.t_s.size
-        self.knots_t = np.concatenate([[0.0], reference.t_s, [reference.t_s[-1] + self.dt]])
-        self.knots_u = np.empty((k + 2, 4))
-        self.knots_u[:2] = trim.u
-        self.filled = 1
-        self._knots_list = self.knots_t.tolist()
-        self._cursor = 0
-        self.saturated = 0
         self.closed_loop_radius = float("nan")
         # the flight plan's acceleration (feed-forward), in the plan frame
         self.ref_acc = np.gradient(reference.vel_m_s, reference.t_s, axis=0) if k > 1 else \
@@ -173,24 +175,4 @@ class CrossoverPilot:
         raw[3] += self.cross_feed * (raw[0] - trim_u[0])
         raw += ref.excitation_rad[min(k + 1, ref.t_s.size - 1)]
         self.output = self.output + self.nm * (raw - self.output)
-        clipped = np.clip(self.output, COMMAND_MIN, COMMAND_MAX)
-        self.saturated += int(np.any(clipped != self.output))
-        self.knots_u[k + 2] = clipped
-        self.filled = k + 2
-        return clipped
-
-    def command(self, t_s: float) -> np.ndarray:
-        """First-order hold between decided knots (as pilot.Pilot.command)."""
-        kt = self._knots_list
-        i = self._cursor
-        while i + 1 < len(kt) and kt[i + 1] <= t_s:
-            i += 1
-        while i > 0 and kt[i] > t_s:
-            i -= 1
-        self._cursor = i
-        if t_s < kt[0]:
-            return self.knots_u[0].copy()
-        if i >= self.filled:
-            return self.knots_u[self.filled].copy()
-        f = (t_s - kt[i]) / (kt[i + 1] - kt[i])
-        return self.knots_u[i] + f * (self.knots_u[i + 1] - self.knots_u[i])
+        return self._decide(k, self.output)

@@ -351,7 +351,49 @@ def wrap_pi(a):
     return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
 
 
-class Pilot:
+class HeldCommands:
+    """The pilot's decided commands on the RC frame grid and their first-order hold.
+
+    Knots: 0, t_0 .. t_{K-1}, t_{K-1} + dt; the commands at 0 and t_0 are the trim, the
+    command decided at knot k is for knot k + 1 (one frame of decision delay)."""
+
+    def _start_hold(self, reference: Reference, u0: np.ndarray, dt: float) -> None:
+        k = reference.t_s.size
+        self.knots_t = np.concatenate([[0.0], reference.t_s, [reference.t_s[-1] + dt]])
+        self.knots_u = np.empty((k + 2, 4))
+        self.knots_u[:2] = u0
+        self.filled = 1  # knots_u[: filled + 1] are decided
+        self._knots_list = self.knots_t.tolist()
+        self._cursor = 0
+        self.saturated = 0
+
+    def _decide(self, k: int, v: np.ndarray) -> np.ndarray:
+        """Clip the command decided at knot k to the RC end points and hold it for k + 1."""
+        clipped = np.clip(v, COMMAND_MIN, COMMAND_MAX)
+        self.saturated += int(np.any(clipped != v))
+        self.knots_u[k + 2] = clipped
+        self.filled = k + 2
+        return clipped
+
+    def command(self, t_s: float) -> np.ndarray:
+        """First-order hold between decided knots (trim before the first knot; the last
+        decided value held beyond). Cheapest for increasing times (a moving cursor)."""
+        kt = self._knots_list
+        i = self._cursor
+        while i + 1 < len(kt) and kt[i + 1] <= t_s:
+            i += 1
+        while i > 0 and kt[i] > t_s:
+            i -= 1
+        self._cursor = i
+        if t_s < kt[0]:
+            return self.knots_u[0].copy()
+        if i >= self.filled:
+            return self.knots_u[self.filled].copy()
+        f = (t_s - kt[i]) / (kt[i + 1] - kt[i])
+        return self.knots_u[i] + f * (self.knots_u[i + 1] - self.knots_u[i])
+
+
+class Pilot(HeldCommands):
     """Closed-loop pilot for one flight (module docstring).
 
     `pilot.update(k, x, pos_ned, vel_ned, yaw_frame)` at knot k with the true state;
@@ -407,16 +449,8 @@ class Pilot:
         closed = az - bz @ self.gain
         self.closed_loop_radius = float(np.max(np.abs(np.linalg.eigvals(closed))))
         self.n_states = n
-        k = reference.t_s.size
-        # knots: 0, t_0 .. t_{K-1}, t_{K-1} + dt; the commands at 0 and t_0 are the trim
-        self.knots_t = np.concatenate([[0.0], reference.t_s, [reference.t_s[-1] + self.dt]])
-        self.knots_u = np.empty((k + 2, 4))
-        self.knots_u[:2] = trim.u
-        self.filled = 1  # knots_u[: filled + 1] are decided
-        self._knots_list = self.knots_t.tolist()
-        self._cursor = 0
+        self._start_hold(reference, trim.u, self.dt)
         self.integral = np.zeros(4)
-        self.saturated = 0
 
     def update(self, k: int, x: np.ndarray, pos_frame_m: np.ndarray, vel_frame_body_m_s:
                np.ndarray, yaw_frame_rad: float) -> np.ndarray:
@@ -439,25 +473,4 @@ class Pilot:
                                 self.gains.integral_limit_m_s)
         z = np.concatenate([e, self.integral, self.knots_u[k + 1] - self.trim.u])
         v = self.trim.u - self.gain @ z + ref.excitation_rad[min(k + 1, ref.t_s.size - 1)]
-        clipped = np.clip(v, COMMAND_MIN, COMMAND_MAX)
-        self.saturated += int(np.any(clipped != v))
-        self.knots_u[k + 2] = clipped
-        self.filled = k + 2
-        return clipped
-
-    def command(self, t_s: float) -> np.ndarray:
-        """First-order hold between decided knots (trim before the first knot; the last
-        decided value held beyond). Cheapest for increasing times (a moving cursor)."""
-        kt = self._knots_list
-        i = self._cursor
-        while i + 1 < len(kt) and kt[i + 1] <= t_s:
-            i += 1
-        while i > 0 and kt[i] > t_s:
-            i -= 1
-        self._cursor = i
-        if t_s < kt[0]:
-            return self.knots_u[0].copy()
-        if i >= self.filled:
-            return self.knots_u[self.filled].copy()
-        f = (t_s - kt[i]) / (kt[i + 1] - kt[i])
-        return self.knots_u[i] + f * (self.knots_u[i + 1] - self.knots_u[i])
+        return self._decide(k, v)

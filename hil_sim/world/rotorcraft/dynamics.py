@@ -120,6 +120,8 @@ AUX_SPECIFIC_FORCE, AUX_ANG_ACC, AUX_THRUST, AUX_POWER, AUX_NU0, AUX_TAIL_THRUST
     AUX_CURRENT, AUX_DUTY, AUX_PITCH, AUX_TAIL_PITCH, AUX_TORQUE, AUX_OMEGA_DOT, \
     AUX_TAIL_COMMAND = 0, 3, 6, 7, 8, 9, 10, 11, 12, 15, 16, 17, 18
 N_AUX = 19
+# Prandtl's factor is 1 to 1e-3 inboard of half the radius at rotor inflow angles (f > 6)
+TIP_LOSS_FROM = 0.5
 # captive modes: free flight, body held, body held at a fixed rotor speed
 FREE, BODY_HELD, SPEED_HELD = 0, 1, 2
 
@@ -314,8 +316,39 @@ def _solve_spd(mm, rhs):
 
 
 @numba.njit(cache=True, fastmath=True, error_model="numpy")
+def _teeter_element(sign, r, cpsi, spsi, cbeta, sbeta, s, omega, rate, hub, r_e, vpsi, vb,
+                    rdot, rdd):
+    """Kinematics of a teetering blade's (or paddle's) point: blade `sign` (+1 at psi, -1 at
+    psi + pi with the opposite teeter) at radius r, the shaft at (cpsi, spsi), the teeter
+    at (cbeta, sbeta) and its rate. Fills its body position r_e, partial velocities vpsi
+    (Omega) and vb (teeter rate), its velocity relative to the body rdot and the
+    velocity-dependent part of its acceleration rdd; returns (p, e_t, e_u)."""
+    cp, sp, sb = sign * cpsi, sign * spsi, sign * sbeta
+    p, p_psi, p_beta, e_t, e_u = teeter_point(cp, sp, cbeta, sb, s, r)
+    for i in range(3):
+        r_e[i] = hub[i] + p[i]
+        vpsi[i] = p_psi[i]
+        vb[i] = sign * p_beta[i]
+        rdot[i] = omega * p_psi[i] + rate * vb[i]
+    dd = teeter_velocity_terms(cp, sp, cbeta, sb, s, r, omega, sign * rate)
+    for i in range(3):
+        rdd[i] = dd[i]
+    return p, e_t, e_u
+
+
+@numba.njit(cache=True, fastmath=True, error_model="numpy")
+def _air_relative(r_e, rdot, down, v, w, env, wg, rot):
+    """Air velocity relative to a point at r_e moving with rdot relative to the body, with
+    `down` m/s of induced flow added along +z (body axes)."""
+    wr = _cross(w[0], w[1], w[2], r_e[0], r_e[1], r_e[2])
+    air = _grid_wind(r_e[0], r_e[1], r_e[2], env, wg, rot)
+    return (air[0] - (v[0] + wr[0] + rdot[0]), air[1] - (v[1] + wr[1] + rdot[1]),
+            air[2] + down - (v[2] + wr[2] + rdot[2]))
+
+
+@numba.njit(cache=True, fastmath=True, error_model="numpy")
 def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, srv, env,
-          w0, w1, g0, g1, xdot, aux, captive):
+          w0, w1, g0, g1, xdot, aux, captive, wg):
     """dx/dt (written into xdot) and the auxiliary outputs (aux) at state x, radio
     command delta (4,). `captive`: hold the body (rotor, drive, servos and inflow run; the
     body accelerations the loads would cause are still returned in aux) — trim and
@@ -337,7 +370,12 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
     fly_d = x[FLY_DOT]
     nu0, nux, nuy, nut = x[NU0], x[NUX], x[NUY], x[NUT]
     rot = quat_dcm(q)
-    wg = (1.0 - f_t) * w0 + f_t * w1
+    # the wind grid at t: linear between the two snapshots (into the scratch wg)
+    flat0 = w0.reshape(-1)
+    flat1 = w1.reshape(-1)
+    flat = wg.reshape(-1)
+    for i in range(flat.size):
+        flat[i] = flat0[i] + f_t * (flat1[i] - flat0[i])
     grav = env[ENV_G]
     gb = (rot[2, 0] * grav, rot[2, 1] * grav, rot[2, 2] * grav)  # R^T (0, 0, g)
 
@@ -428,30 +466,18 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
     for e in range(mre.shape[0]):
         sign = mre[e, 0]
         r = mre[e, 1]
-        # blade 1: psi + pi, -beta
-        cp, sp, sb = sign * cpsi, sign * spsi, sign * sbeta
-        p, p_psi, p_beta, e_t, e_u = teeter_point(cp, sp, cbeta, sb, s, r)
-        for i in range(3):
-            r_e[i] = hub[i] + p[i]
-            vpsi[i] = p_psi[i]
-            vb_part[i] = sign * p_beta[i]
-            rdot[i] = omega * p_psi[i] + beta_d * vb_part[i]
-        dd = teeter_velocity_terms(cp, sp, cbeta, sb, s, r, omega, sign * beta_d)
-        for i in range(3):
-            rdd[i] = dd[i]
-        # air relative to the element
-        wr = _cross(w[0], w[1], w[2], r_e[0], r_e[1], r_e[2])
-        air = _grid_wind(r_e[0], r_e[1], r_e[2], env, wg, rot)
+        p, e_t, e_u = _teeter_element(sign, r, cpsi, spsi, cbeta, sbeta, s, omega, beta_d, hub,
+                                      r_e, vpsi, vb_part, rdot, rdd)
         ge = _grid_upwash(r_e[0], r_e[1], env, g0, g1, f_t)
         nu = nu0 + nux * p[0] / radius + nuy * p[1] / radius - ge * nu0
-        ux = air[0] - (v[0] + wr[0] + rdot[0])
-        uy = air[1] - (v[1] + wr[1] + rdot[1])
-        uz = air[2] + nu - (v[2] + wr[2] + rdot[2])
+        ux, uy, uz = _air_relative(r_e, rdot, nu, v, w, env, wg, rot)
         # blade pitch: collective + Bell + Hiller (+ twist, track on blade 1)
         theta = h0 + mre[e, 4] + sign * cyclic
         ut = -(ux * e_t[0] + uy * e_t[1] + uz * e_t[2])
         up = ux * e_u[0] + uy * e_u[1] + uz * e_u[2]
-        tip = prandtl_tip_loss(n_blades, r / radius, math.atan2(-up, abs(ut) + 1e-9))
+        tip = 1.0
+        if r > TIP_LOSS_FROM * radius:
+            tip = prandtl_tip_loss(n_blades, r / radius, math.atan2(-up, abs(ut) + 1e-9))
         fx, fy, fz, _, _, _ = section_load(ux, uy, uz, e_t[0], e_t[1], e_t[2], e_u[0],
                                            e_u[1], e_u[2], theta, chord, mre[e, 2], rho,
                                            tip, table)
@@ -464,7 +490,7 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
         thrust -= fz
         mom_x -= fz * p[0]
         mom_y -= fz * p[1]
-        q_gen += fx * p_psi[0] + fy * p_psi[1] + fz * p_psi[2]
+        q_gen += fx * vpsi[0] + fy * vpsi[1] + fz * vpsi[2]
     # hub spring and damper on the teeter
     rhs[7] += -mr[MR_SPRING] * beta - mr[MR_DAMPING] * beta_d
 
@@ -477,28 +503,16 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
     for e in range(fbe.shape[0]):
         sign = fbe[e, 0]
         r = fbe[e, 1]
-        cp, sp, sb = sign * cfp, sign * sfp, sign * sfb
-        p, p_psi, p_beta, e_t, e_u = teeter_point(cp, sp, cfb, sb, s, r)
-        for i in range(3):
-            r_e[i] = hub[i] + p[i]
-            vpsi[i] = p_psi[i]
-            vb_part[i] = sign * p_beta[i]
-            rdot[i] = omega * p_psi[i] + fly_d * vb_part[i]
-        dd = teeter_velocity_terms(cp, sp, cfb, sb, s, r, omega, sign * fly_d)
-        for i in range(3):
-            rdd[i] = dd[i]
+        p, e_t, e_u = _teeter_element(sign, r, cfp, sfp, cfb, sfb, s, omega, fly_d, hub, r_e,
+                                      vpsi, vb_part, rdot, rdd)
         m = fbe[e, 3]
         force[0] = m * gb[0]
         force[1] = m * gb[1]
         force[2] = m * gb[2]
         if fbe[e, 5] > 0.0:
-            wr = _cross(w[0], w[1], w[2], r_e[0], r_e[1], r_e[2])
-            air = _grid_wind(r_e[0], r_e[1], r_e[2], env, wg, rot)
             ge = _grid_upwash(r_e[0], r_e[1], env, g0, g1, f_t)
             nu = nu0 + nux * p[0] / radius + nuy * p[1] / radius - ge * nu0
-            ux = air[0] - (v[0] + wr[0] + rdot[0])
-            uy = air[1] - (v[1] + wr[1] + rdot[1])
-            uz = air[2] + nu - (v[2] + wr[2] + rdot[2])
+            ux, uy, uz = _air_relative(r_e, rdot, nu, v, w, env, wg, rot)
             theta = sign * feather_f
             fx, fy, fz, _, _, _ = section_load(ux, uy, uz, e_t[0], e_t[1], e_t[2], e_u[0],
                                                e_u[1], e_u[2], theta, fbe[e, 4], fbe[e, 2],
@@ -506,7 +520,7 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
             force[0] += fx
             force[1] += fy
             force[2] += fz
-            q_gen += fx * p_psi[0] + fy * p_psi[1] + fz * p_psi[2]
+            q_gen += fx * vpsi[0] + fy * vpsi[1] + fz * vpsi[2]
         _point_a0(w, v, r_e, rdot, rdd, a0)
         _add_mass(mm, rhs, m, r_e, vpsi, vb_part, 8, force, a0)
     rhs[8] += -fb[FB_DAMPING] * fly_d
@@ -540,7 +554,10 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
         uz = air[2] + wake_t - (v[2] + wr[2] + omega * vpsi[2])
         ut = -(ux * e_t[0] + uz * e_t[2])
         up = -uy
-        tip = prandtl_tip_loss(tr[TR_N_BLADES], r / t_radius, math.atan2(-up, abs(ut) + 1e-9))
+        tip = 1.0
+        if r > TIP_LOSS_FROM * t_radius:
+            tip = prandtl_tip_loss(tr[TR_N_BLADES], r / t_radius,
+                                   math.atan2(-up, abs(ut) + 1e-9))
         fx, fy, fz, _, _, _ = section_load(ux, uy, uz, e_t[0], e_t[1], e_t[2], 0.0, -1.0, 0.0,
                                            tail_pitch, tr[TR_CHORD], tre[e, 2], rho, tip,
                                            table)
@@ -671,6 +688,7 @@ def integrate(x, t0, dt, n, delta0, delta1, body, mr, mre, fb, fbe, tr, tre, fus
     xs = np.empty(s)
     aux = np.empty(N_AUX)
     scratch = np.empty(N_AUX)
+    wg = np.empty_like(w0)
     d = np.empty(4)
     span = n * dt
     t = t0
@@ -679,7 +697,7 @@ def integrate(x, t0, dt, n, delta0, delta1, body, mr, mre, fb, fbe, tr, tre, fus
         for i in range(4):
             d[i] = delta0[i] + f0 * (delta1[i] - delta0[i])
         rates(t, x, d, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, srv, env, w0,
-              w1, g0, g1, k1, aux, captive)
+              w1, g0, g1, k1, aux, captive, wg)
         if out_start >= 0:
             out_x[out_start + step, :] = x
             out_aux[out_start + step, :] = aux
@@ -689,18 +707,18 @@ def integrate(x, t0, dt, n, delta0, delta1, body, mr, mre, fb, fbe, tr, tre, fus
         for i in range(s):
             xs[i] = x[i] + 0.5 * dt * k1[i]
         rates(t + 0.5 * dt, xs, d, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv,
-              srv, env, w0, w1, g0, g1, k2, scratch, captive)
+              srv, env, w0, w1, g0, g1, k2, scratch, captive, wg)
         for i in range(s):
             xs[i] = x[i] + 0.5 * dt * k2[i]
         rates(t + 0.5 * dt, xs, d, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv,
-              srv, env, w0, w1, g0, g1, k3, scratch, captive)
+              srv, env, w0, w1, g0, g1, k3, scratch, captive, wg)
         f1 = (t + dt - t0) / span if span > 0 else 0.0
         for i in range(4):
             d[i] = delta0[i] + f1 * (delta1[i] - delta0[i])
         for i in range(s):
             xs[i] = x[i] + dt * k3[i]
         rates(t + dt, xs, d, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, srv, env,
-              w0, w1, g0, g1, k4, scratch, captive)
+              w0, w1, g0, g1, k4, scratch, captive, wg)
         for i in range(s):
             x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         nq = math.sqrt(x[QUAT] ** 2 + x[QUAT + 1] ** 2 + x[QUAT + 2] ** 2 + x[QUAT + 3] ** 2)

@@ -38,6 +38,7 @@ from hil_sim.world.kinematics import (
     quat_multiply,
     quat_to_dcm,
 )
+from hil_sim.world.rotorcraft import dynamics
 from hil_sim.world.rotorcraft.airframe import load_airframe
 from hil_sim.world.rotorcraft.atmosphere import air_density_kg_m3, normal_gravity_m_s2
 from hil_sim.world.rotorcraft.dynamics import (
@@ -48,6 +49,9 @@ from hil_sim.world.rotorcraft.dynamics import (
     AUX_SPECIFIC_FORCE,
     AUX_TAIL_PITCH,
     AUX_THRUST,
+    ENV_T0,
+    ENV_T1,
+    FREE,
     N_AUX,
     N_STATES,
     OMEGA,
@@ -237,6 +241,8 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
     x = trim.x.copy()
     x[0:3] = p0
     knot_steps = np.ceil(np.asarray(knots) / dt - 1e-6).astype(np.int64)
+    env = heli.env(0.0, 0.0)
+    parts = heli.packed()
     n_knots = knots.size
     knot = 0
     i = 0
@@ -263,9 +269,10 @@ def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.
         t_field = clock()
         w0, w1, g0, g1 = sampler.snapshots(gk, x, t)
         field_s += clock() - t_field
-        env = heli.env(gk * sampler.dt, (gk + 1) * sampler.dt)
-        heli.integrate(x, t, nxt - i, pilot.command(t), pilot.command(t_next), env, w0, w1,
-                       g0, g1, xs, aux, i)
+        env[ENV_T0] = gk * sampler.dt
+        env[ENV_T1] = (gk + 1) * sampler.dt
+        dynamics.integrate(x, t, dt, nxt - i, pilot.command(t), pilot.command(t_next), *parts,
+                           env, w0, w1, g0, g1, xs, aux, i, FREE)
         i = nxt
         if i >= next_report or i >= n:
             next_report += report_every

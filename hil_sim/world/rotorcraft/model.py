@@ -24,8 +24,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hil_sim.world.kinematics import euler_to_quat, quat_to_euler
-from hil_sim.world.rotorcraft import drive, dynamics, flybar, fuselage, main_rotor, servos, \
-    tail_rotor
+from hil_sim.world.rotorcraft import (
+    drive,
+    dynamics,
+    flybar,
+    fuselage,
+    main_rotor,
+    servos,
+    tail_rotor,
+)
 from hil_sim.world.rotorcraft.airframe import Airframe
 from hil_sim.world.rotorcraft.dynamics import (
     AUX_ANG_ACC,
@@ -155,6 +162,11 @@ class BladeElementHelicopter:
 
     # -- integration ----------------------------------------------------------------------
 
+    def packed(self) -> tuple:
+        """The parameter arrays in dynamics.integrate's order (body .. srv)."""
+        return (self.body, self.mr, self.mre, self.fb, self.fbe, self.tr, self.tre, self.fus,
+                self.fus_tab, self.emp, self.drv, self.srv)
+
     def integrate(self, x, t0, n, delta0, delta1, env, w0, w1, g0, g1, out_x=None,
                   out_aux=None, out_start=-1, captive=0, dt=None) -> float:
         """n RK4 steps of `dt` (default `self.dt`; x updated in place); see
@@ -164,9 +176,8 @@ class BladeElementHelicopter:
             out_aux = np.empty((1, N_AUX))
             out_start = -1
         return dynamics.integrate(
-            x, float(t0), self.dt if dt is None else float(dt), int(n), np.asarray(delta0, float), np.asarray(delta1, float),
-            self.body, self.mr, self.mre, self.fb, self.fbe, self.tr, self.tre, self.fus,
-            self.fus_tab, self.emp, self.drv, self.srv, env, w0, w1, g0, g1, out_x, out_aux,
+            x, float(t0), self.dt if dt is None else float(dt), int(n), np.asarray(delta0, float),
+            np.asarray(delta1, float), *self.packed(), env, w0, w1, g0, g1, out_x, out_aux,
             int(out_start), int(captive))
 
     def initial_state(self, pos_ned, euler, vel_body, delta) -> np.ndarray:
@@ -261,11 +272,10 @@ class BladeElementHelicopter:
             return r, xs
 
         r, state = residual(z, None, 0.6)
-        it = 0
+        iterations = 0
         err = float(np.max(np.abs(r)))
-        for it in range(1, max_iter + 1):
-            if err < tol:
-                break
+        while err >= tol and iterations < max_iter:
+            iterations += 1
             jac = np.empty((7, 7))
             for k in range(7):
                 h = 1e-3 / scale[k] if k < 6 else 2e-3 / scale[k]
@@ -289,7 +299,7 @@ class BladeElementHelicopter:
         x = build(z, state)
         # settle once more as the free flight will start from it
         _, x = self.captive_average(x, z[:4], wind_ned_m_s, ground, 0.3)
-        return BladeTrim(x=x, delta=z[:4].copy(), residual=err, iterations=it,
+        return BladeTrim(x=x, delta=z[:4].copy(), residual=err, iterations=iterations,
                          info={"governor_integral": float(z[6])})
 
     def linearize(self, trim: BladeTrim, wind_ned_m_s=(0.0, 0.0, 0.0), ground=None

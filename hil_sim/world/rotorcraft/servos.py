@@ -14,7 +14,8 @@ each swash servo for the height h_i = col - lon x_i - lat y_i of its ball at
 does (`rigging`, unknown to the host):
 
     arm angle command   theta_i* = (1 + g_i) h_i / k_arm                   (end-point error)
-    servo               theta_i'' = wn^2 (theta_i* - theta_i) - 2 zeta wn theta_i',  |theta_i'| <= rate
+    servo               theta_i'' = wn^2 (theta_i* - theta_i) - 2 zeta wn theta_i'
+                        with |theta_i'| <= rate
     ball height         h_i' = k_arm sin(theta_i) + o_i                     (linkage, centring)
 
 and the swashplate plane through the three balls gives collective and the two tilts
