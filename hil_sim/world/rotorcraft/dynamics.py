@@ -61,6 +61,7 @@ from hil_sim.world.rotorcraft.fuselage import (
 )
 from hil_sim.world.rotorcraft.inflow import (
     momentum_inflow_rate,
+    radial_shape,
     pitt_peters_rates,
     wake_skew,
     wake_velocity,
@@ -469,7 +470,7 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
         p, e_t, e_u = _teeter_element(sign, r, cpsi, spsi, cbeta, sbeta, s, omega, beta_d, hub,
                                       r_e, vpsi, vb_part, rdot, rdd)
         ge = _grid_upwash(r_e[0], r_e[1], env, g0, g1, f_t)
-        nu = nu0 + nux * p[0] / radius + nuy * p[1] / radius - ge * nu0
+        nu = nu0 * (radial_shape(r / radius) - ge) + nux * p[0] / radius + nuy * p[1] / radius
         ux, uy, uz = _air_relative(r_e, rdot, nu, v, w, env, wg, rot)
         # blade pitch: collective + Bell + Hiller (+ twist, track on blade 1)
         theta = h0 + mre[e, 4] + sign * cyclic
@@ -511,7 +512,8 @@ def rates(t, x, delta, body, mr, mre, fb, fbe, tr, tre, fus, fus_tab, emp, drv, 
         force[2] = m * gb[2]
         if fbe[e, 5] > 0.0:
             ge = _grid_upwash(r_e[0], r_e[1], env, g0, g1, f_t)
-            nu = nu0 + nux * p[0] / radius + nuy * p[1] / radius - ge * nu0
+            nu = (nu0 * (radial_shape(r / radius) - ge) + nux * p[0] / radius
+                  + nuy * p[1] / radius)
             ux, uy, uz = _air_relative(r_e, rdot, nu, v, w, env, wg, rot)
             theta = sign * feather_f
             fx, fy, fz, _, _, _ = section_load(ux, uy, uz, e_t[0], e_t[1], e_t[2], e_u[0],

@@ -25,6 +25,16 @@ more lift on the +l / downstream side (more lift on a side draws more inflow the
 in hover lambda_d = 2 C_d / V_m, the actuator-disc momentum balance). This is Peters &
 HaQuang's matrix written for these forcing signs (their {C_T, -C_L, -C_M}).
 
+Radial distribution: the Pitt-Peters states are the disc's mean and first harmonics; along
+the radius the mean is distributed as an untwisted blade's blade-element-momentum inflow,
+lambda(r) ~ sqrt(r) (Johnson 1980 §4.1: lambda = (sigma a / 16)(sqrt(1 + 32 theta r /
+(sigma a)) - 1) ~ sqrt(sigma a theta r / 8)), normalised to keep the area mean:
+
+    nu(r) = nu_0 (5/4) sqrt(r / R)
+
+so the blade roots and the flybar paddles near the hub fly in the weaker inflow there
+(a uniform distribution would put the whole mean on them).
+
 Tail rotor: uniform inflow with the first Pitt-Peters row, (8 / (3 pi)) dlambda/dtau =
 C_T - 2 V_T lambda.
 
@@ -104,6 +114,12 @@ def pitt_peters_rates(nu0, nux, nuy, c_t, c_x, c_y, vx, vy, vz, omega, radius):
     dd = scale * rd / M1_PITT_PETERS
     dl = scale * rl / M1_PITT_PETERS
     return d0, dd * dx + dl * lx, dd * dy + dl * ly
+
+
+@numba.njit(cache=True, fastmath=True, error_model="numpy")
+def radial_shape(r_over_radius):
+    """The mean inflow's radial distribution (module docstring), area mean 1."""
+    return 1.25 * math.sqrt(max(r_over_radius, 0.0))
 
 
 @numba.njit(cache=True, fastmath=True, error_model="numpy")
