@@ -4,7 +4,8 @@ airframe file), both trimmed in level flight at hover, 4 and 8 m/s. Two differen
 theories (closed-form flapping at one hub velocity with uniform inflow, against elements
 with Pitt-Peters inflow and a flybar) must agree on what physics fixes: the collective and
 the power to carry the machine, the nose-down attitude and its trend with speed, the roll
-the tail rotor's thrust asks for. docs/truth-world-jsbsim.md explains every difference."""
+the tail rotor's thrust asks for. docs/truth-world.md ("Second opinion: JSBSim") explains
+every difference."""
 
 from __future__ import annotations
 

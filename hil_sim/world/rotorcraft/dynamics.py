@@ -61,8 +61,8 @@ from hil_sim.world.rotorcraft.fuselage import (
 )
 from hil_sim.world.rotorcraft.inflow import (
     momentum_inflow_rate,
-    radial_shape,
     pitt_peters_rates,
+    radial_shape,
     wake_skew,
     wake_velocity,
 )

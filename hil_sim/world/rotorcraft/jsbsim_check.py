@@ -46,7 +46,8 @@ Two things FGRotor cannot take: the Bell-Hiller flybar (its blade pitch is the c
 and the sense of rotation in its flapping: FGRotor's flapping and side-force equations
 are those of a counter-clockwise rotor whatever `sense` says (sense only flips the
 torque). A clockwise airframe is therefore modelled as its mirror image (y -> -y,
-rotation reversed) and the lateral results mirrored back (docs/truth-world-jsbsim.md).
+rotation reversed) and the lateral results mirrored back
+(docs/truth-world.md, "Second opinion: JSBSim").
 
 The trim: JSBSim's own FGTrim pairs udot with the throttle and wdot with alpha, which a
 helicopter's throttle (the rotor speed is governed) and a hovering alpha cannot trim;
