@@ -102,11 +102,14 @@ class PilotNet(nn.Module):
     def predict_numpy(self, x: np.ndarray) -> np.ndarray:
         return self.forward(x).numpy()
 
-    def set_arx(self, weight_standard: np.ndarray) -> None:
-        """Store the ARX solution (K, F+1) on standardised data and start the skip there;
-        every MLP's output layer starts at zero (the net starts as the ARX model)."""
+    def set_arx(self, weight_standard: np.ndarray, start: np.ndarray | None = None) -> None:
+        """Store the ARX solution (K, F+1) on standardised data and start the skip there,
+        or at `start` (the same least squares on more rows: train_net's time-stretched
+        copies); every MLP's output layer starts at zero (the net starts linear)."""
         w = torch.as_tensor(weight_standard, dtype=torch.float64)
         self.arx_weight.copy_(w)
+        if start is not None:
+            w = torch.as_tensor(start, dtype=torch.float64)
         with torch.no_grad():
             self.skip.weight.copy_(w[:, :-1].float())
             self.skip.bias.copy_(w[:, -1].float())

@@ -1,6 +1,6 @@
 """Training the pilot-compensation networks: AdamW with early stopping, or the
-reference's particle swarm (eq 4.11), on the same time-block split, with the linear
-ARX baseline fitted on the same rows.
+reference's particle swarm (eq 4.11), on a chronological (or time-block) split, with
+the linear ARX baseline fitted on the same rows.
 
     net = train_net([flight_a, flight_b], target="rates", trainer="adamw", seed=0)
     net.card["metrics"]["test"]      # net / arx / persistence per axis, held-out blocks
@@ -14,6 +14,7 @@ from __future__ import annotations
 import platform
 import time
 from dataclasses import asdict, dataclass, field
+from fractions import Fraction
 
 import numpy as np
 import torch
@@ -22,10 +23,18 @@ from airwake.nets.data import INPUT_SOURCES, NetFlight
 from airwake.nets.features import FeatureConfig, build_features, lagged
 from airwake.nets.metrics import score_sets, smoothed_target
 from airwake.nets.model import PilotNet, fit_arx
-from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, block_split
+from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, split_labels
 
 OUTPUTS = {"rates": ("p_rad_s", "q_rad_s", "r_rad_s"), "accel": ("pdot_rad_s2", "qdot_rad_s2")}
 DEFAULT_RATE_LAG = {"rates": 1, "accel": 0}
+# the rate target feeds back 30 past samples of each rate (0.2-0.25 s at 123-150 Hz): a
+# real gyro's rotor vibration lines are predictable from them (docs/networks.md)
+DEFAULT_RATE_HISTORY = {"rates": 30, "accel": 1}
+# the training rows played 2 % and 1 % slower and faster (every rotor vibration line on a
+# real gyro moves with the rotor speed, which changes in flight); "val": the net trains on
+# them where its linear start fitted with them is better on the validation rows
+STRETCH_FACTORS = (0.98, 0.99, 1.01, 1.02)
+DEFAULT_TIME_STRETCH = {"rates": "val", "accel": ()}
 TRAIN_TARGETS = ("measured", "lowpass")
 # ridge values (x N, standardised weights) tried per axis when arx_ridge="val"
 ARX_RIDGE_GRID = (1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1)
@@ -36,6 +45,9 @@ PSO_INERTIA, PSO_C1, PSO_C2 = 0.2, 0.1, 0.2
 
 @dataclass(frozen=True)
 class AdamWConfig:
+    """AdamW on the standardised MSE from the linear least-squares start, early stopping
+    on the validation rows (docs/networks.md, "Network and training")."""
+
     lr: float = 2e-3
     weight_decay: float = 1e-4
     batch_size: int = 256
@@ -43,8 +55,17 @@ class AdamWConfig:
     patience: int = 25
     # per_axis: each output axis keeps the weights of its own best validation epoch (its
     # skip row and its MLP touch that axis only), so no axis ends worse on validation than
-    # its ARX start; stop when no axis has improved for `patience` epochs
-    per_axis: bool = False
+    # its linear start; stop when no axis has improved for `patience` epochs
+    per_axis: bool = True
+    # train_skip: AdamW also moves the linear skip away from its least-squares start
+    # (False: the skip stays the least-squares solution, the MLPs learn what it leaves)
+    train_skip: bool = False
+    # min_gain_se: an epoch is kept only where its validation MSE is below the start's
+    # (epoch 0, the linear least-squares model) by more than min_gain_se standard errors
+    # of the difference, the error taken over means of `se_block_s` seconds of validation
+    # rows (neighbouring rows' errors are correlated); 0: any lower validation MSE counts
+    min_gain_se: float = 2.0
+    se_block_s: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -71,6 +92,11 @@ class Dataset:
     # (N, K) the same low-pass within each run of one set (train_target="lowpass"): the
     # centred kernel never reads across a block boundary into another set's rows
     y_lp_sets: np.ndarray | None = None
+    # extra training rows: the training runs time-stretched (train_net's time_stretch);
+    # x, y, the within-run low-passed y; empty arrays when none
+    x_stretch: np.ndarray | None = None
+    y_stretch: np.ndarray | None = None
+    y_lp_stretch: np.ndarray | None = None
 
 
 def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
@@ -90,11 +116,17 @@ def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
 
 
 def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfig,
-                  rng) -> Dataset:
+                  rng, time_stretch=()) -> Dataset:
     xs, ys, lps, lss, ps, ls, meta, names = [], [], [], [], [], [], [], []
+    sx, sy, slp = [], [], []
     for f in flights:
         x, names, y, prev = flight_features(f, target, config)
-        labels = block_split(f.t_s, split, config.history_s(f.rate_hz), rng)
+        labels = split_labels(f.t_s, split, config.history_s(f.rate_hz), rng)
+        for factor in time_stretch:
+            for a, b, c in stretched_training_rows(f, labels, factor, target, config):
+                sx.append(a)
+                sy.append(b)
+                slp.append(c)
         xs.append(x)
         ys.append(y)
         lps.append(smoothed_target(y, f.rate_hz))
@@ -108,8 +140,65 @@ def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfi
                      **{f"{k}_rows": int((labels == v).sum())
                         for k, v in (("train", TRAIN), ("val", VAL), ("test", TEST))}})
     prev = None if target == "accel" else np.concatenate(ps)
+    k = ys[0].shape[1]
+    stack = (lambda parts, width: np.concatenate(parts) if parts else np.empty((0, width)))
     return Dataset(np.concatenate(xs), np.concatenate(ys), np.concatenate(lps), prev,
-                   np.concatenate(ls), names, meta, np.concatenate(lss))
+                   np.concatenate(ls), names, meta, np.concatenate(lss),
+                   stack(sx, len(names)), stack(sy, k), stack(slp, k))
+
+
+def check_time_stretch(factors) -> tuple[float, ...]:
+    """The time-stretch factors as floats, each in [0.5, 2] and not 1 (ValueError)."""
+    out = tuple(float(v) for v in factors)
+    for v in out:
+        if not (np.isfinite(v) and 0.5 <= v <= 2.0) or v == 1.0:
+            raise ValueError(f"time_stretch factors must be in [0.5, 2] and not 1, got {v!r}")
+    return out
+
+
+def played_faster(v: np.ndarray, factor: float) -> np.ndarray:
+    """v (n, ...) played `factor` times faster at the same sample rate: band-limited (FFT)
+    resampling to round(n / factor) samples. The end-to-end line is taken out first (the
+    FFT's periodic extension then has no jump) and put back after."""
+    from scipy.signal import resample
+
+    v = np.asarray(v, float)
+    n = v.shape[0]
+    m = int(round(n / factor))
+
+    def line(k: int) -> np.ndarray:
+        return v[0] + np.multiply.outer(np.linspace(0.0, 1.0, k), v[-1] - v[0])
+
+    return resample(v - line(n), m, axis=0) + line(m)
+
+
+def stretched_training_rows(flight: NetFlight, labels: np.ndarray, factor: float, target: str,
+                            config: FeatureConfig):
+    """Each run of TRAIN rows of `flight` played `factor` times faster at the same sample
+    rate (every channel alike: a 34 Hz vibration line moves to factor × 34 Hz), as
+    (x, y, y low-passed within the run) of its rows past the features' history and away
+    from the run's ends. Only training rows are read."""
+    edge = 12  # samples at either end where the resampled run still rings
+    skip = int(np.ceil(config.history_s(flight.rate_hz) * flight.rate_hz)) + edge
+    change = np.flatnonzero(np.diff(labels)) + 1
+    for a, b in zip(np.r_[0, change], np.r_[change, len(labels)], strict=True):
+        if labels[a] != TRAIN or b - a < 2 * skip + 20:
+            continue
+
+        def play(v, a=a, b=b):
+            return played_faster(v[a:b], factor)
+
+        # d/dt of a signal played faster is that much larger
+        accel = None if flight.accel_rad_s2 is None else play(flight.accel_rad_s2) * factor
+        rates = play(flight.rates_rad_s)
+        n = rates.shape[0]
+        seg = NetFlight(flight.source, flight.t_s[a] + np.arange(n) / flight.rate_hz,
+                        play(flight.inputs), flight.input_source, play(flight.roll_rad),
+                        play(flight.pitch_rad), rates, accel, flight.rate_hz, flight.fingerprint)
+        x, _, y, _ = flight_features(seg, target, config)
+        y_lp = smoothed_target(y, flight.rate_hz)
+        keep = slice(skip, n - edge)
+        yield x[keep], y[keep], y_lp[keep]
 
 
 def lowpass_within_sets(y: np.ndarray, labels: np.ndarray, rate_hz: float) -> np.ndarray:
@@ -134,20 +223,49 @@ def unrle(runs) -> np.ndarray:
     return np.concatenate([np.full(c, lab, dtype=int) for lab, c in runs])
 
 
-def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: torch.Generator,
-                progress=None) -> dict:
-    """Minibatch AdamW on the standardised MSE; keeps the weights of the best validation
-    loss (epoch 0 = the ARX start) and stops after `patience` epochs without a better one."""
-    opt = torch.optim.AdamW(net.parameters(), lr=cfg.lr, weight_decay=cfg.weight_decay)
-    n = z_tr.shape[0]
+class _ValGate:
+    """Validation losses per axis and whether they beat the start's by `min_gain_se`
+    standard errors of the per-row difference (AdamWConfig.min_gain_se)."""
 
-    def val_loss() -> float:
+    def __init__(self, net: PilotNet, z_va, y_va, cfg: AdamWConfig, rate_hz: float | None):
+        self.net, self.z_va, self.y_va, self.k = net, z_va, y_va, cfg.min_gain_se
+        n = y_va.shape[0]
+        block = max(1, int(round(cfg.se_block_s * (rate_hz or 1.0))))
+        self.n_blocks = max(1, n // block)
+        self.block = n // self.n_blocks if n else 1
+        self.start_rows = self.rows()
+
+    def rows(self) -> torch.Tensor:
+        """(N, K) squared validation errors of the net as it is now."""
         with torch.no_grad():
-            return float(((net.forward_standard(z_va) - y_va) ** 2).mean())
+            return ((self.net.forward_standard(self.z_va) - self.y_va) ** 2).double()
+
+    def losses(self) -> tuple[np.ndarray, np.ndarray]:
+        """(per-axis MSE, per-axis 'significantly below the start') of the net now."""
+        e = self.rows()
+        mse = e.mean(dim=0).numpy()
+        if self.k <= 0 or self.n_blocks < 2:
+            return mse, mse < self.start_rows.mean(dim=0).numpy()
+        m = self.n_blocks * self.block
+        d = (e - self.start_rows)[:m].reshape(self.n_blocks, self.block, -1).mean(dim=1)
+        mean, se = d.mean(dim=0), d.std(dim=0) / np.sqrt(self.n_blocks)
+        return mse, (mean < -self.k * se).numpy()
+
+
+def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: torch.Generator,
+                progress=None, rate_hz: float | None = None) -> dict:
+    """Minibatch AdamW on the standardised MSE; keeps the weights of the best validation
+    loss (epoch 0 = the linear start; with min_gain_se, only epochs that beat it by that
+    many standard errors count) and stops after `patience` epochs without a better one.
+    rate_hz: the validation rows' sample rate (the standard error's blocks)."""
+    params = net.parameters() if cfg.train_skip else net.mlps.parameters()
+    opt = torch.optim.AdamW(params, lr=cfg.lr, weight_decay=cfg.weight_decay)
+    n = z_tr.shape[0]
+    gate = _ValGate(net, z_va, y_va, cfg, rate_hz)
 
     if cfg.per_axis:
-        return _train_adamw_per_axis(net, opt, z_tr, y_tr, z_va, y_va, cfg, gen, progress)
-    best = val_loss()
+        return _train_adamw_per_axis(net, opt, z_tr, y_tr, gate, cfg, gen, progress)
+    best = float(gate.losses()[0].mean())
     best_state = {k: v.clone() for k, v in net.state_dict().items()}
     best_epoch, history = 0, [best]
     for epoch in range(1, cfg.max_epochs + 1):
@@ -160,9 +278,10 @@ def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: to
             loss.backward()
             opt.step()
         net.eval()
-        v = val_loss()
+        mse, beats_start = gate.losses()
+        v = float(mse.mean())
         history.append(v)
-        if v < best:
+        if v < best and (cfg.min_gain_se <= 0 or beats_start.all()):
             best, best_epoch = v, epoch
             best_state = {k: t.clone() for k, t in net.state_dict().items()}
         if progress is not None:
@@ -200,23 +319,18 @@ def _set_axis_state(net: PilotNet, k: int, st: dict) -> None:
     net.mlps[k].load_state_dict(st["mlp"])
 
 
-def _train_adamw_per_axis(net: PilotNet, opt, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig,
+def _train_adamw_per_axis(net: PilotNet, opt, z_tr, y_tr, gate: _ValGate, cfg: AdamWConfig,
                           gen, progress=None) -> dict:
     """train_adamw with early stopping per output axis (AdamWConfig.per_axis)."""
     k_out = net.n_outputs
-
-    def val_losses() -> np.ndarray:
-        with torch.no_grad():
-            return ((net.forward_standard(z_va) - y_va) ** 2).mean(dim=0).double().numpy()
-
-    best = val_losses()
+    best = gate.losses()[0]
     best_states = [_axis_state(net, k) for k in range(k_out)]
     best_epochs, history = np.zeros(k_out, dtype=int), [float(best.mean())]
     for epoch in range(1, cfg.max_epochs + 1):
         _epoch(net, opt, z_tr, y_tr, cfg.batch_size, gen)
-        v = val_losses()
+        v, beats_start = gate.losses()
         history.append(float(v.mean()))
-        for k in np.flatnonzero(v < best):
+        for k in np.flatnonzero((v < best) & beats_start):
             best[k], best_epochs[k] = v[k], epoch
             best_states[k] = _axis_state(net, int(k))
         if progress is not None:
@@ -330,7 +444,7 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
               features: FeatureConfig | None = None, split: SplitConfig | None = None,
               hidden=(16, 8), adamw: AdamWConfig | None = None, pso: PSOConfig | None = None,
               progress: bool = False, threads: int = 1, train_target: str = "measured",
-              arx_ridge: float | str = 1e-3) -> PilotNet:
+              arx_ridge: float | str = 1e-3, time_stretch=None) -> PilotNet:
     """Train a pilot-compensation net on `flights` (NetFlight list); returns it with its
     model card (`net.card`: features, windows, flights and their split, metrics on the
     held-out test blocks for the net, the ARX baseline and persistence, versions).
@@ -342,6 +456,13 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
         Net, ARX and early stopping all use it; scores are against both as always.
     arx_ridge: the ARX ridge (x N on standardised weights), or "val": per axis the value of
         ARX_RIDGE_GRID with the smallest validation RMS (card: arx_ridge, arx_ridge_val).
+    time_stretch: factors (e.g. 0.98, 1.02) by which the training rows are also played
+        faster or slower, as extra training rows of the net; () for none; "val" (the rate
+        target's default, DEFAULT_TIME_STRETCH): STRETCH_FACTORS if the linear start fitted
+        with them has the smaller validation MSE, else none (card: time_stretch,
+        time_stretch_val). The ARX baseline stays least squares on the real training rows.
+    features: default FeatureConfig with DEFAULT_RATE_LAG and DEFAULT_RATE_HISTORY.
+    split: default SplitConfig(): chronological.
     """
     if target not in OUTPUTS:
         raise ValueError(f"target must be one of {tuple(OUTPUTS)}, got {target!r}")
@@ -362,8 +483,15 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
     rates = [f.rate_hz for f in flights]
     if max(rates) > 1.1 * min(rates):
         raise ValueError(f"flights sampled at different rates {[round(r, 3) for r in rates]} Hz")
-    features = features or FeatureConfig(rate_lag_samples=DEFAULT_RATE_LAG[target])
+    features = features or FeatureConfig(rate_lag_samples=DEFAULT_RATE_LAG[target],
+                                         rate_history_samples=DEFAULT_RATE_HISTORY[target])
     split = split or SplitConfig()
+    if time_stretch is None:
+        time_stretch = DEFAULT_TIME_STRETCH[target]
+    choose_stretch = isinstance(time_stretch, str)
+    if choose_stretch and time_stretch != "val":
+        raise ValueError(f"time_stretch must be factors or 'val', got {time_stretch!r}")
+    time_stretch = check_time_stretch(STRETCH_FACTORS if choose_stretch else time_stretch)
     t0 = time.perf_counter()
     old_threads = torch.get_num_threads()
     torch.set_num_threads(threads)
@@ -371,7 +499,7 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
         rng = np.random.default_rng(seed)
         torch.manual_seed(seed)
         gen = torch.Generator().manual_seed(seed)
-        ds = build_dataset(flights, target, features, split, rng)
+        ds = build_dataset(flights, target, features, split, rng, time_stretch)
         tr, va = ds.labels == TRAIN, ds.labels == VAL
         if tr.sum() < 10 * ds.x.shape[1] or va.sum() < 10:
             raise ValueError(f"too little data: {int(tr.sum())} training and {int(va.sum())} "
@@ -391,7 +519,23 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
             ridges, ridge_val = choose_arx_ridge(z_np[tr], y_np[tr], z_np[va], y_np[va])
         else:
             ridges = float(arx_ridge)
-        net.set_arx(fit_arx(z_np[tr], y_np[tr], ridges))
+        # the net trains on the training rows and their time-stretched copies
+        y_st = ds.y_stretch if train_target == "measured" else ds.y_lp_stretch
+        z_st = net.standardise(ds.x_stretch)
+        ystd_st = net.standardise_target(ds.x_stretch, y_st)
+        w_arx = fit_arx(z_np[tr], y_np[tr], ridges)
+        start, stretch_val = None, None
+        if len(z_st):
+            start = fit_arx(np.concatenate([z_np[tr], z_st.double().numpy()]),
+                            np.concatenate([y_np[tr], ystd_st.double().numpy()]), ridges)
+        if start is not None and choose_stretch:
+            a_va = np.column_stack([z_np[va], np.ones(int(va.sum()))])
+            stretch_val = {name: float(((a_va @ w.T - y_np[va]) ** 2).mean())
+                           for name, w in (("none", w_arx), ("stretched", start))}
+            if stretch_val["stretched"] >= stretch_val["none"]:
+                start, time_stretch = None, ()
+                z_st, ystd_st = z_st[:0], ystd_st[:0]
+        net.set_arx(w_arx, start=start)
         bar = None
         if progress:
             from airwake.progress import Progress
@@ -401,12 +545,13 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
             bar = Progress(f"nets train ({trainer})", total, " epochs" if trainer == "adamw"
                            else " iterations")
         tr_t, va_t = torch.as_tensor(tr), torch.as_tensor(va)
+        z_tr, y_tr = torch.cat([z[tr_t], z_st]), torch.cat([ystd[tr_t], ystd_st])
         if trainer == "adamw":
-            info = train_adamw(net, z[tr_t], ystd[tr_t], z[va_t], ystd[va_t],
-                               adamw or AdamWConfig(), gen, bar)
+            info = train_adamw(net, z_tr, y_tr, z[va_t], ystd[va_t],
+                               adamw or AdamWConfig(), gen, bar, float(np.mean(rates)))
             settings = asdict(adamw or AdamWConfig())
         else:
-            info = train_pso(net, z[tr_t], ystd[tr_t], z[va_t], ystd[va_t], pso or PSOConfig(),
+            info = train_pso(net, z_tr, y_tr, z[va_t], ystd[va_t], pso or PSOConfig(),
                              rng, bar)
             settings = asdict(pso or PSOConfig())
         if bar is not None:
@@ -423,7 +568,9 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
         "input_source": flights[0].input_source,
         "input_columns": list(INPUT_SOURCES[flights[0].input_source]),
         "rate_hz": float(np.mean(rates)), "trainer": trainer, "trainer_settings": settings,
-        "train_target": train_target,
+        "train_target": train_target, "time_stretch": list(time_stretch),
+        "train_rows_stretched": int(len(z_st)),
+        **({"time_stretch_val": stretch_val} if stretch_val is not None else {}),
         "arx_ridge": ridges if isinstance(ridges, list) else [ridges] * ds.y.shape[1],
         **({"arx_ridge_val": ridge_val} if ridge_val is not None else {}),
         "training": info, "seed": int(seed), "training_flights": ds.flights, "metrics": metrics,

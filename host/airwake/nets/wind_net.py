@@ -150,7 +150,8 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
         z = net.standardise(x)
         ys_ = net.standardise_target(x, y)
         net.set_arx(fit_arx(z[tr].double().numpy(), ys_[tr].double().numpy()))
-        cfg = adamw or AdamWConfig(lr=2e-3, max_epochs=60, patience=8)
+        cfg = adamw or AdamWConfig(lr=2e-3, max_epochs=60, patience=8, per_axis=False,
+                                   train_skip=True, min_gain_se=0.0)
         info = train_adamw(net, z[tr], ys_[tr], z[va], ys_[va], cfg, gen)
         net.eval()
         pred_va, arx_va = net.predict_numpy(x[va]), net.predict_arx(x[va])
