@@ -14,7 +14,6 @@ from __future__ import annotations
 import platform
 import time
 from dataclasses import asdict, dataclass, field
-from fractions import Fraction
 
 import numpy as np
 import torch
@@ -97,6 +96,12 @@ class Dataset:
     x_stretch: np.ndarray | None = None
     y_stretch: np.ndarray | None = None
     y_lp_stretch: np.ndarray | None = None
+    # (N,) each row's time, the flights laid end to end (the validation gate's blocks)
+    t_s: np.ndarray | None = None
+
+    @property
+    def t_val_s(self) -> np.ndarray:
+        return self.t_s[self.labels == VAL]
 
 
 def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
@@ -118,8 +123,11 @@ def flight_features(flight: NetFlight, target: str, config: FeatureConfig):
 def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfig,
                   rng, time_stretch=()) -> Dataset:
     xs, ys, lps, lss, ps, ls, meta, names = [], [], [], [], [], [], [], []
-    sx, sy, slp = [], [], []
+    sx, sy, slp, ts = [], [], [], []
+    t_end = 0.0
     for f in flights:
+        ts.append(f.t_s - f.t_s[0] + t_end)
+        t_end = ts[-1][-1] + 10.0
         x, names, y, prev = flight_features(f, target, config)
         labels = split_labels(f.t_s, split, config.history_s(f.rate_hz), rng)
         for factor in time_stretch:
@@ -141,10 +149,13 @@ def build_dataset(flights, target: str, config: FeatureConfig, split: SplitConfi
                         for k, v in (("train", TRAIN), ("val", VAL), ("test", TEST))}})
     prev = None if target == "accel" else np.concatenate(ps)
     k = ys[0].shape[1]
-    stack = (lambda parts, width: np.concatenate(parts) if parts else np.empty((0, width)))
+
+    def stack(parts, width: int) -> np.ndarray:
+        return np.concatenate(parts) if parts else np.empty((0, width))
+
     return Dataset(np.concatenate(xs), np.concatenate(ys), np.concatenate(lps), prev,
                    np.concatenate(ls), names, meta, np.concatenate(lss),
-                   stack(sx, len(names)), stack(sy, k), stack(slp, k))
+                   stack(sx, len(names)), stack(sy, k), stack(slp, k), np.concatenate(ts))
 
 
 def check_time_stretch(factors) -> tuple[float, ...]:
@@ -225,43 +236,43 @@ def unrle(runs) -> np.ndarray:
 
 class _ValGate:
     """Validation losses per axis and whether they beat the start's by `min_gain_se`
-    standard errors of the per-row difference (AdamWConfig.min_gain_se)."""
+    standard errors of the per-row difference (AdamWConfig.min_gain_se, block_mean_gain
+    over the rows' times t_va_s; None: 1 s = 150 rows)."""
 
-    def __init__(self, net: PilotNet, z_va, y_va, cfg: AdamWConfig, rate_hz: float | None):
-        self.net, self.z_va, self.y_va, self.k = net, z_va, y_va, cfg.min_gain_se
-        n = y_va.shape[0]
-        block = max(1, int(round(cfg.se_block_s * (rate_hz or 1.0))))
-        self.n_blocks = max(1, n // block)
-        self.block = n // self.n_blocks if n else 1
+    def __init__(self, net: PilotNet, z_va, y_va, cfg: AdamWConfig, t_va_s=None):
+        self.net, self.z_va, self.y_va, self.cfg = net, z_va, y_va, cfg
+        self.t = np.arange(y_va.shape[0]) / 150.0 if t_va_s is None else np.asarray(t_va_s)
         self.start_rows = self.rows()
 
-    def rows(self) -> torch.Tensor:
+    def rows(self) -> np.ndarray:
         """(N, K) squared validation errors of the net as it is now."""
         with torch.no_grad():
-            return ((self.net.forward_standard(self.z_va) - self.y_va) ** 2).double()
+            return ((self.net.forward_standard(self.z_va) - self.y_va) ** 2).double().numpy()
 
     def losses(self) -> tuple[np.ndarray, np.ndarray]:
-        """(per-axis MSE, per-axis 'significantly below the start') of the net now."""
+        """(per-axis MSE, per-axis 'below the start by min_gain_se standard errors')."""
         e = self.rows()
-        mse = e.mean(dim=0).numpy()
-        if self.k <= 0 or self.n_blocks < 2:
-            return mse, mse < self.start_rows.mean(dim=0).numpy()
-        m = self.n_blocks * self.block
-        d = (e - self.start_rows)[:m].reshape(self.n_blocks, self.block, -1).mean(dim=1)
-        mean, se = d.mean(dim=0), d.std(dim=0) / np.sqrt(self.n_blocks)
-        return mse, (mean < -self.k * se).numpy()
+        mse = e.mean(axis=0)
+        if self.cfg.min_gain_se <= 0:
+            return mse, mse < self.start_rows.mean(axis=0)
+        beats = []
+        for k in range(e.shape[1]):
+            mean, se = block_mean_gain(e[:, k] - self.start_rows[:, k], self.t,
+                                       self.cfg.se_block_s)
+            beats.append(mean < -self.cfg.min_gain_se * se)
+        return mse, np.array(beats)
 
 
 def train_adamw(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: AdamWConfig, gen: torch.Generator,
-                progress=None, rate_hz: float | None = None) -> dict:
+                progress=None, t_va_s=None) -> dict:
     """Minibatch AdamW on the standardised MSE; keeps the weights of the best validation
     loss (epoch 0 = the linear start; with min_gain_se, only epochs that beat it by that
     many standard errors count) and stops after `patience` epochs without a better one.
-    rate_hz: the validation rows' sample rate (the standard error's blocks)."""
+    t_va_s: the validation rows' times (the standard error's blocks)."""
     params = net.parameters() if cfg.train_skip else net.mlps.parameters()
     opt = torch.optim.AdamW(params, lr=cfg.lr, weight_decay=cfg.weight_decay)
     n = z_tr.shape[0]
-    gate = _ValGate(net, z_va, y_va, cfg, rate_hz)
+    gate = _ValGate(net, z_va, y_va, cfg, t_va_s)
 
     if cfg.per_axis:
         return _train_adamw_per_axis(net, opt, z_tr, y_tr, gate, cfg, gen, progress)
@@ -342,7 +353,37 @@ def _train_adamw_per_axis(net: PilotNet, opt, z_tr, y_tr, gate: _ValGate, cfg: A
     return {"epochs_run": len(history) - 1, "best_epoch": int(best_epochs.max()),
             "best_epoch_per_axis": best_epochs.tolist(),
             "best_val_mse_standard": float(best.mean()),
+            "best_val_mse_per_axis": [round(float(v), 8) for v in best],
+            "start_val_mse_per_axis": [round(float(v), 8)
+                                       for v in gate.start_rows.mean(axis=0)],
             "val_history": [round(h, 6) for h in history]}
+
+
+def block_mean_gain(diff: np.ndarray, t_s: np.ndarray, block_s: float) -> tuple[float, float]:
+    """Mean and standard error of a per-row difference (N,) over means of `block_s`
+    seconds of its rows (times t_s): neighbouring rows' errors are correlated, blocks of
+    them much less. Fewer than 2 blocks: the standard error is inf."""
+    if diff.size == 0:
+        return 0.0, float("inf")
+    block = np.floor((t_s - t_s[0]) / block_s).astype(int)
+    _, inv = np.unique(block, return_inverse=True)
+    means = np.bincount(inv, weights=diff) / np.bincount(inv)
+    if means.size < 2:
+        return float(diff.mean()), float("inf")
+    return float(diff.mean()), float(means.std(ddof=1) / np.sqrt(means.size))
+
+
+def stretch_worse_on_validation(z_va, y_va, w_plain, w_stretched, t_va_s,
+                                cfg: AdamWConfig) -> dict:
+    """Whether the linear start fitted with the time-stretched rows is worse on the
+    validation rows than the one without by more than cfg.min_gain_se standard errors
+    (squared errors summed over the axes, standardised units; block_mean_gain)."""
+    a = np.column_stack([z_va, np.ones(len(z_va))])
+    e_plain = ((a @ w_plain.T - y_va) ** 2).sum(axis=1)
+    e_st = ((a @ w_stretched.T - y_va) ** 2).sum(axis=1)
+    mean, se = block_mean_gain(e_st - e_plain, t_va_s, cfg.se_block_s)
+    return {"none": float(e_plain.mean()), "stretched": float(e_st.mean()),
+            "difference_se": se, "worse": bool(mean > max(cfg.min_gain_se, 0.0) * se)}
 
 
 def choose_arx_ridge(z_tr, y_tr, z_va, y_va, grid=ARX_RIDGE_GRID):
@@ -447,7 +488,7 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
               arx_ridge: float | str = 1e-3, time_stretch=None) -> PilotNet:
     """Train a pilot-compensation net on `flights` (NetFlight list); returns it with its
     model card (`net.card`: features, windows, flights and their split, metrics on the
-    held-out test blocks for the net, the ARX baseline and persistence, versions).
+    held-out test rows for the net, the ARX baseline and persistence, versions).
 
     train_target: "measured" (the logged target) or "lowpass" (it low-passed with
         metrics.SCORE_LOWPASS, the centred eq 2.3, within each run of one set so no target
@@ -529,10 +570,9 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
             start = fit_arx(np.concatenate([z_np[tr], z_st.double().numpy()]),
                             np.concatenate([y_np[tr], ystd_st.double().numpy()]), ridges)
         if start is not None and choose_stretch:
-            a_va = np.column_stack([z_np[va], np.ones(int(va.sum()))])
-            stretch_val = {name: float(((a_va @ w.T - y_np[va]) ** 2).mean())
-                           for name, w in (("none", w_arx), ("stretched", start))}
-            if stretch_val["stretched"] >= stretch_val["none"]:
+            stretch_val = stretch_worse_on_validation(
+                z_np[va], y_np[va], w_arx, start, ds.t_val_s, (adamw or AdamWConfig()))
+            if stretch_val["worse"]:
                 start, time_stretch = None, ()
                 z_st, ystd_st = z_st[:0], ystd_st[:0]
         net.set_arx(w_arx, start=start)
@@ -548,7 +588,7 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
         z_tr, y_tr = torch.cat([z[tr_t], z_st]), torch.cat([ystd[tr_t], ystd_st])
         if trainer == "adamw":
             info = train_adamw(net, z_tr, y_tr, z[va_t], ystd[va_t],
-                               adamw or AdamWConfig(), gen, bar, float(np.mean(rates)))
+                               adamw or AdamWConfig(), gen, bar, ds.t_val_s)
             settings = asdict(adamw or AdamWConfig())
         else:
             info = train_pso(net, z_tr, y_tr, z[va_t], ystd[va_t], pso or PSOConfig(),
