@@ -10,7 +10,7 @@ from airwake.nets import AdamWConfig, FeatureConfig, NetFlight, SplitConfig, tra
 from airwake.nets.evaluate import _predict_flight
 from airwake.nets.features import gaussian_lowpass
 from airwake.nets.split import GUARD, TEST, TRAIN, VAL, chronological_split, split_labels
-from airwake.nets.train import build_dataset, flight_features
+from airwake.nets.train import build_dataset
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -130,18 +130,3 @@ def test_the_arx_baseline_recovers_a_known_arx_system_and_is_causal():
     arx_later = _predict_flight(net, later)[4]
     np.testing.assert_array_equal(arx[:k], arx_later[:k])
     assert not np.allclose(arx[k:], arx_later[k:])
-
-
-def test_the_net_trains_on_the_flight_s_early_part_only(truth_world_flight):
-    # flight_features on a training flight: the card's training rows all precede its test
-    # rows in time
-    from airwake.nets import load_net_flight
-    from airwake.nets.train import unrle
-
-    flight = load_net_flight(truth_world_flight("still_air_calibration", 5, 60.0))
-    net = train_net([flight], "rates", seed=0, adamw=AdamWConfig(max_epochs=0))
-    labels = unrle(net.card["training_flights"][0]["labels_rle"])
-    assert net.card["split"]["order"] == "chronological"
-    assert flight.t_s[labels == TRAIN].max() < flight.t_s[labels == VAL].min()
-    assert flight.t_s[labels == VAL].max() < flight.t_s[labels == TEST].min()
-    assert flight_features(flight, "rates", FeatureConfig())[0].shape[0] == labels.size

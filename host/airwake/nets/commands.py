@@ -40,7 +40,8 @@ def register(subparsers) -> None:
     t.add_argument("--trainer", choices=("adamw", "pso"), default="adamw")
     t.add_argument("--seed", type=int, default=0)
     t.add_argument("--hidden", default=None, metavar="H1,H2",
-                   help="hidden layer sizes of each axis' MLP (default 16,8; wind 32,16)")
+                   help="hidden layer sizes of each axis' MLP (default: rates 8, accel 16,8, "
+                   "wind 32,16)")
     t.add_argument("--line-window-s", type=float, default=None, help="eq 2.1 history (0.5 s)")
     t.add_argument("--rate-lag", type=int, default=None, metavar="SAMPLES",
                    help="previous rates fed back, in samples (rates: 1, accel: 0)")
@@ -147,7 +148,10 @@ def _train(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.suffix != ".pt" or not out.parent.is_dir():
         raise NetFileError(f"--out {out}: needs a .pt file in an existing folder")
-    spec = args.hidden or ("32,16" if args.target == "wind" else "16,8")
+    from airwake.nets.train import DEFAULT_HIDDEN
+
+    spec = args.hidden or ("32,16" if args.target == "wind"
+                           else ",".join(str(h) for h in DEFAULT_HIDDEN[args.target]))
     try:
         hidden = tuple(int(h) for h in spec.split(",") if h.strip())
         if not hidden or min(hidden) < 1:

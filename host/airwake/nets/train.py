@@ -34,6 +34,8 @@ DEFAULT_RATE_HISTORY = {"rates": 30, "accel": 1}
 # them where its linear start fitted with them is better on the validation rows
 STRETCH_FACTORS = (0.98, 0.99, 1.01, 1.02)
 DEFAULT_TIME_STRETCH = {"rates": "val", "accel": ()}
+# hidden layers of each axis' MLP
+DEFAULT_HIDDEN = {"rates": (8,), "accel": (16, 8)}
 TRAIN_TARGETS = ("measured", "lowpass")
 # ridge values (x N, standardised weights) tried per axis when arx_ridge="val"
 ARX_RIDGE_GRID = (1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1)
@@ -51,7 +53,7 @@ class AdamWConfig:
     weight_decay: float = 1e-4
     batch_size: int = 256
     max_epochs: int = 300
-    patience: int = 25
+    patience: int = 10
     # per_axis: each output axis keeps the weights of its own best validation epoch (its
     # skip row and its MLP touch that axis only), so no axis ends worse on validation than
     # its linear start; stop when no axis has improved for `patience` epochs
@@ -359,15 +361,23 @@ def _train_adamw_per_axis(net: PilotNet, opt, z_tr, y_tr, gate: _ValGate, cfg: A
             "val_history": [round(h, 6) for h in history]}
 
 
-def block_mean_gain(diff: np.ndarray, t_s: np.ndarray, block_s: float) -> tuple[float, float]:
-    """Mean and standard error of a per-row difference (N,) over means of `block_s`
-    seconds of its rows (times t_s): neighbouring rows' errors are correlated, blocks of
-    them much less. Fewer than 2 blocks: the standard error is inf."""
-    if diff.size == 0:
-        return 0.0, float("inf")
+def block_means(values: np.ndarray, t_s: np.ndarray, block_s: float) -> np.ndarray:
+    """Means of `values` (N,) or (N, K) over blocks of `block_s` seconds of their rows'
+    times t_s (neighbouring rows' errors are correlated, blocks of them much less)."""
     block = np.floor((t_s - t_s[0]) / block_s).astype(int)
     _, inv = np.unique(block, return_inverse=True)
-    means = np.bincount(inv, weights=diff) / np.bincount(inv)
+    v = np.asarray(values, float).reshape(len(t_s), -1)
+    sums = np.stack([np.bincount(inv, weights=v[:, k]) for k in range(v.shape[1])], axis=1)
+    means = sums / np.bincount(inv)[:, None]
+    return means if np.ndim(values) > 1 else means[:, 0]
+
+
+def block_mean_gain(diff: np.ndarray, t_s: np.ndarray, block_s: float) -> tuple[float, float]:
+    """Mean and standard error of a per-row difference (N,), the error over its means of
+    `block_s` seconds (block_means). Fewer than 2 blocks: the standard error is inf."""
+    if diff.size == 0:
+        return 0.0, float("inf")
+    means = block_means(diff, t_s, block_s)
     if means.size < 2:
         return float(diff.mean()), float("inf")
     return float(diff.mean()), float(means.std(ddof=1) / np.sqrt(means.size))
@@ -376,14 +386,23 @@ def block_mean_gain(diff: np.ndarray, t_s: np.ndarray, block_s: float) -> tuple[
 def stretch_worse_on_validation(z_va, y_va, w_plain, w_stretched, t_va_s,
                                 cfg: AdamWConfig) -> dict:
     """Whether the linear start fitted with the time-stretched rows is worse on the
-    validation rows than the one without by more than cfg.min_gain_se standard errors
-    (squared errors summed over the axes, standardised units; block_mean_gain)."""
+    validation rows than the one without: the log of their squared-error ratio (summed
+    over the axes, standardised units) per `se_block_s` block, its mean above
+    cfg.min_gain_se standard errors. A ratio per block, so a few blocks of flying that
+    neither model has seen (errors ten times the rest) do not decide it."""
     a = np.column_stack([z_va, np.ones(len(z_va))])
     e_plain = ((a @ w_plain.T - y_va) ** 2).sum(axis=1)
     e_st = ((a @ w_stretched.T - y_va) ** 2).sum(axis=1)
-    mean, se = block_mean_gain(e_st - e_plain, t_va_s, cfg.se_block_s)
-    return {"none": float(e_plain.mean()), "stretched": float(e_st.mean()),
-            "difference_se": se, "worse": bool(mean > max(cfg.min_gain_se, 0.0) * se)}
+    out = {"none": float(e_plain.mean()), "stretched": float(e_st.mean())}
+    if len(e_plain) == 0:
+        return {**out, "log_ratio": 0.0, "log_ratio_se": float("inf"), "worse": False}
+    means = block_means(np.column_stack([e_plain, e_st]), t_va_s, cfg.se_block_s)
+    log_ratio = np.log(np.maximum(means[:, 1], 1e-300) / np.maximum(means[:, 0], 1e-300))
+    se = (float(log_ratio.std(ddof=1) / np.sqrt(log_ratio.size)) if log_ratio.size > 1
+          else float("inf"))
+    mean = float(log_ratio.mean())
+    return {**out, "log_ratio": mean, "log_ratio_se": se,
+            "worse": bool(mean > max(cfg.min_gain_se, 0.0) * se)}
 
 
 def choose_arx_ridge(z_tr, y_tr, z_va, y_va, grid=ARX_RIDGE_GRID):
@@ -483,7 +502,7 @@ def train_pso(net: PilotNet, z_tr, y_tr, z_va, y_va, cfg: PSOConfig, rng, progre
 
 def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int = 0,
               features: FeatureConfig | None = None, split: SplitConfig | None = None,
-              hidden=(16, 8), adamw: AdamWConfig | None = None, pso: PSOConfig | None = None,
+              hidden=None, adamw: AdamWConfig | None = None, pso: PSOConfig | None = None,
               progress: bool = False, threads: int = 1, train_target: str = "measured",
               arx_ridge: float | str = 1e-3, time_stretch=None) -> PilotNet:
     """Train a pilot-compensation net on `flights` (NetFlight list); returns it with its
@@ -503,6 +522,7 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
         with them has the smaller validation MSE, else none (card: time_stretch,
         time_stretch_val). The ARX baseline stays least squares on the real training rows.
     features: default FeatureConfig with DEFAULT_RATE_LAG and DEFAULT_RATE_HISTORY.
+    hidden: each axis' MLP hidden sizes (DEFAULT_HIDDEN).
     split: default SplitConfig(): chronological.
     """
     if target not in OUTPUTS:
@@ -527,6 +547,7 @@ def train_net(flights, target: str = "rates", trainer: str = "adamw", seed: int 
     features = features or FeatureConfig(rate_lag_samples=DEFAULT_RATE_LAG[target],
                                          rate_history_samples=DEFAULT_RATE_HISTORY[target])
     split = split or SplitConfig()
+    hidden = DEFAULT_HIDDEN[target] if hidden is None else tuple(hidden)
     if time_stretch is None:
         time_stretch = DEFAULT_TIME_STRETCH[target]
     choose_stretch = isinstance(time_stretch, str)
