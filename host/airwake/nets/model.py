@@ -13,10 +13,12 @@ trained one network per channel, §2.2.2), all on standardised features:
 x_base(k) is the feature in `base_columns[k]` (for the rate target: the fed-back previous
 rate of that axis) or 0: the net then learns the change since then, and where it has to
 extrapolate it falls back towards persistence rather than towards an offset. A (the
-skip) starts at the ridge-regularised least-squares ARX solution and every MLP's last layer at
-zero, so training starts from the linear baseline and early stopping on validation can
-only keep an MLP that beats it there. The .pt file is a dict of tensors and strings
-(format, card JSON, state_dict) read with `torch.load(weights_only=True)`.
+skip) starts at a ridge-regularised least-squares solution (the ARX, or the same on the
+training rows and their time-stretched copies) and every MLP's last layer at zero, so
+training starts from a linear model and early stopping on validation can only keep an
+MLP that beats it there (train.AdamWConfig: by default the skip stays put). The .pt file
+is a dict of tensors and strings (format, card JSON, state_dict) read with
+`torch.load(weights_only=True)`.
 """
 
 from __future__ import annotations
