@@ -17,11 +17,12 @@ def test_train_then_evaluate_writes_net_report_and_predictions(flight, tmp_path,
     net = tmp_path / "rates.pt"
     assert main(["nets", "train", str(flight), "--out", str(net), "--seed", "1", "--quiet"]) == 0
     out = capsys.readouterr().out
-    assert "held-out test blocks" in out and "persistence" in out and net.is_file()
+    assert "held-out test rows (the last 20 %)" in out and "persistence" in out and net.is_file()
+    assert "net/arx" in out and "net/persist" in out
     pred = tmp_path / "pred.parquet"
     assert main(["nets", "evaluate", str(net), str(flight), "--json", "--out", str(pred)]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["unit"] == "deg/s" and report["flights"][0]["scored"].startswith("test blocks")
+    assert report["unit"] == "deg/s" and report["flights"][0]["scored"].startswith("test rows")
     rms = report["overall"]["measured"]["net"]
     assert set(rms) == {"p", "q", "r"} and all(np.isfinite(v["rms"]) for v in rms.values())
     df = pd.read_parquet(pred)
@@ -62,10 +63,13 @@ def test_train_options_reach_the_card(flight, tmp_path, capsys):
     assert card["trainer_settings"]["per_axis"] and "best_epoch_per_axis" in card["training"]
     pilot = tmp_path / "pilot.pt"
     assert main(["nets", "train", str(flight), "--out", str(pilot), "--to-s", "30", "--quiet",
-                 "--json", "--pilot-only", "--arx-ridge", "0.01", "--max-epochs", "0"]) == 0
+                 "--json", "--pilot-only", "--arx-ridge", "0.01", "--max-epochs", "0",
+                 "--time-stretch", "none", "--split", "blocks", "--block-s", "4"]) == 0
     card = json.loads(capsys.readouterr().out)
     assert card["training"]["epochs_run"] == 0 and card["trainer_settings"]["max_epochs"] == 0
     assert card["feature_config"]["use_rates"] is False and card["arx_ridge"] == [0.01] * 3
+    assert card["time_stretch"] == [] and card["split"] == {
+        "order": "blocks", "block_s": 4.0, "val_fraction": 0.15, "test_fraction": 0.2}
     assert not any(f.startswith(("p_", "q_", "r_")) for f in card["features"])
     from airwake.nets import load_net
 
@@ -84,6 +88,9 @@ def test_train_options_reach_the_card(flight, tmp_path, capsys):
     (["--pilot-only", "--rate-lag", "5"], "--pilot-only"),
     (["--rate-history", "0"], "rate_history_samples"),
     (["--max-epochs", "-1"], "--max-epochs"),
+    (["--time-stretch", "1.0"], "--time-stretch"),
+    (["--time-stretch", "fast"], "--time-stretch"),
+    (["--block-s", "4"], "--split blocks"),
 ])
 def test_bad_train_options_are_one_line_errors(flight, tmp_path, capsys, extra, words):
     assert main(["nets", "train", str(flight), "--out", str(tmp_path / "x.pt"), "--quiet",

@@ -87,10 +87,10 @@ def test_a_pickled_object_is_refused(tmp_path):
         load_net(tmp_path / "none.pt")
 
 
-def test_evaluate_scores_only_the_test_blocks_of_a_training_flight(rate_net, flight_path):
+def test_evaluate_scores_only_the_test_rows_of_a_training_flight(rate_net, flight_path):
     rep = evaluate_net(rate_net, [load_net_flight(flight_path)])
     f = rep["flights"][0]
-    assert f["scored"].startswith("test blocks") and rep["unit"] == "deg/s"
+    assert f["scored"].startswith("test rows") and rep["unit"] == "deg/s"
     assert f["rows"] == rate_net.card["metrics"]["test"]["rows"]
     card = rate_net.card["metrics"]["test"]["measured"]["net"]
     for axis in "pqr":
@@ -117,8 +117,10 @@ def test_a_net_refuses_a_flight_at_another_rate(rate_net, flight_path):
 
 def test_pso_trainer_starts_at_arx_and_only_improves_its_cost(flight_path):
     flight = load_net_flight(flight_path)
+    # (no time-stretched rows: the linear start is then the ARX itself)
     net = train_net([flight], target="rates", trainer="pso", seed=1, hidden=(4, 2),
-                    pso=PSOConfig(particles=12, iterations=15, cost_rows=400, patience=15))
+                    pso=PSOConfig(particles=12, iterations=15, cost_rows=400, patience=15),
+                    time_stretch=())
     hist = net.card["training"]["cost_history"]
     assert np.all(np.diff(hist) <= 0) and net.card["training"]["inertia"] == 0.2
     # never worse than the ARX start on validation: the swarm's first particle is it
@@ -128,7 +130,8 @@ def test_pso_trainer_starts_at_arx_and_only_improves_its_cost(flight_path):
 
 def test_accel_net_learns_roll_and_pitch_acceleration(flight_path):
     flight = load_net_flight(flight_path, target="accel")
-    net = train_net([flight], target="accel", seed=2, adamw=FAST, split=SplitConfig(block_s=4.0))
+    net = train_net([flight], target="accel", seed=2, adamw=FAST,
+                    split=SplitConfig(order="blocks", block_s=4.0))
     test = net.card["metrics"]["test"]
     assert net.card["outputs"] == ["pdot_rad_s2", "qdot_rad_s2"] and test["rows"] > 600
     rows = evaluate_net(net, [flight])["flights"][0]["rows"]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from airwake.nets import AdamWConfig, FeatureConfig, load_net_flight, train_net
+from airwake.nets import AdamWConfig, FeatureConfig, SplitConfig, load_net_flight, train_net
 from airwake.nets.metrics import smoothed_target
 
 TABLE = (Path(__file__).resolve().parents[2].parent / "shared" / "peers" / "trex550"
@@ -29,10 +29,15 @@ def test_the_gyro_noise_is_a_tone_near_34_hz(hover):
 
 
 def _net(hover, train_target):
+    # the recipe as docs/networks.md tuned it, on the interleaved 5 s blocks of that study
+    # (the defaults since: a chronological split, time-stretched rows, the skip kept at
+    # least squares and gated early stopping; test_trex550.py)
     return train_net([hover], target="rates", seed=0, hidden=(8,),
                      features=FeatureConfig(rate_history_samples=20),
-                     adamw=AdamWConfig(weight_decay=1e-2, max_epochs=30, per_axis=True),
-                     train_target=train_target, arx_ridge="val")
+                     adamw=AdamWConfig(weight_decay=1e-2, max_epochs=30, per_axis=True,
+                                       train_skip=True, min_gain_se=0.0),
+                     train_target=train_target, arx_ridge="val", time_stretch=(),
+                     split=SplitConfig(order="blocks"))
 
 
 def test_lowpass_target_with_rate_history_fits_the_dynamics(hover):

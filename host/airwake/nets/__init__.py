@@ -9,8 +9,9 @@ pilot inputs explain; what they cannot predict is the disturbance (the airwake).
     residuals = predict(load_net("rates.pt"), "ship.parquet")
     # -> t_s, p_pred_rad_s, …, p_resid_rad_s, …, history_valid
 
-Files: features (eq 2.1-2.3), data (partial flight tables), split (time blocks), model
-(the network, its .pt file and model card), train (AdamW, PSO eq 4.11, ARX), metrics,
+Files: features (eq 2.1-2.3), data (partial flight tables), split (chronological or time
+blocks), model (the network, its .pt file and model card), train (AdamW, PSO eq 4.11, ARX),
+metrics,
 evaluate (predict / held-out scores), commands (`airwake nets`), bench.
 """
 

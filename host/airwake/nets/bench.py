@@ -4,7 +4,7 @@ still-air flight (seed 7), one torch thread.
 Keys: nets_train_s (features, split, ARX and AdamW training to early stop; target
 < 60 s), nets_infer_realtime_factor (flight seconds per second of `predict`: features +
 forward pass over the whole flight; target >= 100), nets_test_rms_deg_s_{p,q,r} (held-out
-blocks of that flight, next to Table 2.2's best 2.13 deg/s) and nets_epochs.
+test rows of that flight: its last 20 %; next to Table 2.2's best 2.13 deg/s) and nets_epochs.
 
 The airwake-intensity map (docs/networks.md, A_ω) with that net on a ship_airwake_b0
 flight of the same length (seed 7): nets_airwake_map_s (predict, eq 2.4 / residual std

@@ -24,10 +24,12 @@ def register(subparsers) -> None:
     sub = group.add_subparsers(dest="nets_command", metavar="SUBCOMMAND")
     group.set_defaults(_group_parser=group)
 
-    t = sub.add_parser("train", help="train a net on flights (time-block split)",
+    t = sub.add_parser("train", help="train a net on flights (chronological split)",
                        description="Train a rate (p, q, r) or angular-acceleration (pdot, "
-                       "qdot) network on one or more flight tables with a time-block "
-                       "train/validation/test split, fit the linear ARX baseline on the same "
+                       "qdot) network on one or more flight tables with a chronological "
+                       "train/validation/test split (each flight's first 65 %% trains, the "
+                       "next 15 %% validates, the last 20 %% tests; --split blocks for "
+                       "interleaved time blocks), fit the linear ARX baseline on the same "
                        "rows, and save weights + model card to NET.pt.")
     t.add_argument("flights", nargs="+", metavar="FLIGHT", help="flight tables (.parquet/.csv)")
     t.add_argument("--target", choices=("rates", "accel", "wind"), default="rates",
@@ -38,13 +40,14 @@ def register(subparsers) -> None:
     t.add_argument("--trainer", choices=("adamw", "pso"), default="adamw")
     t.add_argument("--seed", type=int, default=0)
     t.add_argument("--hidden", default=None, metavar="H1,H2",
-                   help="hidden layer sizes of each axis' MLP (default 16,8; wind 32,16)")
+                   help="hidden layer sizes of each axis' MLP (default: rates 8, accel 16,8, "
+                   "wind 32,16)")
     t.add_argument("--line-window-s", type=float, default=None, help="eq 2.1 history (0.5 s)")
     t.add_argument("--rate-lag", type=int, default=None, metavar="SAMPLES",
                    help="previous rates fed back, in samples (rates: 1, accel: 0)")
     t.add_argument("--rate-history", type=int, default=None, metavar="N",
-                   help="feed back the rates at lags L ... L+N-1 (default 1: the lagged rate "
-                   "alone; more lags let a linear part track a rotor tone)")
+                   help="feed back the rates at lags L ... L+N-1 (rates: 30, the gyro's rotor "
+                   "vibration lines are predictable from them; accel: 1)")
     t.add_argument("--pilot-only", action="store_true",
                    help="no rate fed back: predict the rates from the pilot's inputs and the "
                    "attitude alone (eq 2.4's ω′; --rate-lag and --rate-history unused)")
@@ -55,11 +58,20 @@ def register(subparsers) -> None:
                    help="ARX ridge (x N, standardised weights), or 'val': per axis the grid "
                    "value with the smallest validation RMS (1e-3)")
     t.add_argument("--per-axis", action="store_true",
-                   help="AdamW: each output axis keeps its own best validation epoch")
+                   help="AdamW: each output axis keeps its own best validation epoch (the "
+                   "default; kept for older command lines)")
     t.add_argument("--max-epochs", type=int, default=None, metavar="N",
-                   help="AdamW epochs at most (300); 0 keeps the ARX start: a linear model "
-                   "in the net's file")
-    t.add_argument("--block-s", type=float, default=None, help="split block length (5 s)")
+                   help="AdamW epochs at most (300); 0 keeps the linear start: a linear "
+                   "model in the net's file (the ARX itself with --time-stretch none)")
+    t.add_argument("--time-stretch", default=None, metavar="val|none|F1,F2,...",
+                   help="also train on the training rows played F times faster (rates: 'val' "
+                   "= 0.98,0.99,1.01,1.02 unless the validation rows say they are worse; "
+                   "accel: none)")
+    t.add_argument("--split", choices=("chronological", "blocks"), default="chronological",
+                   help="chronological: train early, validate and test later (default); "
+                   "blocks: interleaved time blocks drawn with the seed")
+    t.add_argument("--block-s", type=float, default=None,
+                   help="block length of --split blocks (5 s)")
     t.add_argument("--inputs", choices=("delta", "pwm", "rc_norm"), default=None,
                    help="pilot-input columns (default: the first complete set)")
     _crop_args(t)
@@ -69,7 +81,7 @@ def register(subparsers) -> None:
 
     e = sub.add_parser("evaluate", help="score a net on flights (held-out rows)",
                        description="RMS and MAE per axis (deg/s for rates, rad/s^2 for "
-                       "accelerations) on held-out rows: a training flight's test blocks, "
+                       "accelerations) on held-out rows: a training flight's test rows, "
                        "every row of any other flight; against the measured and the "
                        "low-passed target, next to the ARX baseline and persistence.")
     e.add_argument("net", metavar="NET.pt")
@@ -129,14 +141,17 @@ def _load_flights(paths, target, inputs, from_s, to_s):
 def _train(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from airwake.nets import AdamWConfig, FeatureConfig, SplitConfig, save_net, train_net
+    from airwake.nets import AdamWConfig, FeatureConfig, save_net, train_net
     from airwake.nets.model import NetFileError
-    from airwake.nets.train import DEFAULT_RATE_LAG
+    from airwake.nets.train import DEFAULT_RATE_HISTORY, DEFAULT_RATE_LAG
 
     out = Path(args.out)
     if out.suffix != ".pt" or not out.parent.is_dir():
         raise NetFileError(f"--out {out}: needs a .pt file in an existing folder")
-    spec = args.hidden or ("32,16" if args.target == "wind" else "16,8")
+    from airwake.nets.train import DEFAULT_HIDDEN
+
+    spec = args.hidden or ("32,16" if args.target == "wind"
+                           else ",".join(str(h) for h in DEFAULT_HIDDEN[args.target]))
     try:
         hidden = tuple(int(h) for h in spec.split(",") if h.strip())
         if not hidden or min(hidden) < 1:
@@ -146,7 +161,8 @@ def _train(args: argparse.Namespace) -> int:
     if args.target == "wind":
         return _train_wind(args, out, hidden)
     fkw = {"rate_lag_samples": DEFAULT_RATE_LAG[args.target] if args.rate_lag is None
-           else args.rate_lag}
+           else args.rate_lag,
+           "rate_history_samples": DEFAULT_RATE_HISTORY[args.target]}
     if args.line_window_s is not None:
         fkw["line_window_s"] = args.line_window_s
     if args.rate_history is not None:
@@ -163,19 +179,20 @@ def _train(args: argparse.Namespace) -> int:
             ridge = float(args.arx_ridge)
         except ValueError:
             raise NetFileError(f"--arx-ridge {args.arx_ridge!r}: a number >= 0 or 'val'") from None
-    akw = {"per_axis": args.per_axis}
+    akw = {}
     if args.max_epochs is not None:
         if args.max_epochs < 0:
             raise NetFileError(f"--max-epochs {args.max_epochs}: must be >= 0")
         akw["max_epochs"] = args.max_epochs
+    stretch = _time_stretch(args.time_stretch)
     try:
         features = FeatureConfig(**fkw)
-        split = SplitConfig(**({"block_s": args.block_s} if args.block_s else {}))
+        split = _split(args)
         flights = _load_flights(args.flights, args.target, args.inputs, args.from_s, args.to_s)
         net = train_net(flights, target=args.target, trainer=args.trainer, seed=args.seed,
                         features=features, split=split, hidden=hidden,
                         progress=not args.quiet, train_target=args.train_target,
-                        arx_ridge=ridge, adamw=AdamWConfig(**akw))
+                        arx_ridge=ridge, adamw=AdamWConfig(**akw), time_stretch=stretch)
     except ValueError as exc:
         raise NetFileError(f"nets train: {exc}") from None
     save_net(net, out)
@@ -186,16 +203,47 @@ def _train(args: argparse.Namespace) -> int:
         print(f"{args.target} net ({args.trainer}, seed {args.seed}): {len(flights)} flight(s), "
               f"{m['train']['rows']} train / {m['val']['rows']} validation / "
               f"{m['test']['rows']} test rows, {net.card['train_seconds']:.1f} s")
-        print(format_scores(m["test"], m["unit"], "held-out test blocks"))
+        split = net.card["split"]
+        where = ("held-out test blocks" if split["order"] == "blocks" else
+                 f"held-out test rows (the last {100 * split['test_fraction']:.0f} %)")
+        print(format_scores(m["test"], m["unit"], where))
         print(f"wrote {out}")
     return 0
+
+
+def _time_stretch(spec):
+    """--time-stretch: None (the target's default), 'val', () for 'none', or factors."""
+    from airwake.nets.model import NetFileError
+    from airwake.nets.train import check_time_stretch
+
+    if spec is None:
+        return None
+    word = spec.strip().lower()
+    if word in ("val", "none"):
+        return "val" if word == "val" else ()
+    try:
+        return check_time_stretch(float(v) for v in spec.split(",") if v.strip())
+    except ValueError as exc:
+        raise NetFileError(f"--time-stretch {spec!r}: 'val', 'none' or factors like "
+                           f"0.98,1.02 ({exc})") from None
+
+
+def _split(args: argparse.Namespace):
+    from airwake.nets.model import NetFileError
+    from airwake.nets.split import SplitConfig
+
+    if args.block_s is not None and args.split != "blocks":
+        raise NetFileError("--block-s sets the blocks of --split blocks; the default split "
+                           "is chronological")
+    kw = {"block_s": args.block_s} if args.block_s is not None else {}
+    return SplitConfig(order=args.split, **kw)
 
 
 # the rate / acceleration nets' options a wind net does not take
 _NOT_WIND = {"trainer": "adamw", "line_window_s": None, "rate_lag": None, "rate_history": None,
              "pilot_only": False, "train_target": "measured", "arx_ridge": "1e-3",
              "per_axis": False, "max_epochs": None, "inputs": None, "from_s": None,
-             "to_s": None}
+             "to_s": None, "time_stretch": None, "split": "chronological"}
 
 
 def _train_wind(args: argparse.Namespace, out, hidden) -> int:
@@ -212,7 +260,9 @@ def _train_wind(args: argparse.Namespace, out, hidden) -> int:
     if not args.quiet:
         print(f"training a wind net on {len(args.flights)} flight(s) ...", file=sys.stderr)
     try:
-        split = SplitConfig(**({"block_s": args.block_s} if args.block_s else {}))
+        # a wind net early-stops on blocks of its flights; other flights are its test set
+        split = SplitConfig(order="blocks",
+                            **({"block_s": args.block_s} if args.block_s else {}))
         net = train_wind_net(args.flights, seed=args.seed, hidden=hidden, split=split)
     except ValueError as exc:
         raise NetFileError(f"nets train: {exc}") from None
@@ -230,16 +280,27 @@ def _train_wind(args: argparse.Namespace, out, hidden) -> int:
 
 
 def format_scores(scores: dict, unit: str, title: str) -> str:
-    """A small text table: model x axis, RMS / MAE, measured and low-passed target."""
+    """A small text table: model x axis, RMS / MAE, measured and low-passed target, and
+    the net's RMS over each baseline's (below 1: the net is better on that axis)."""
     lines = [f"{title}: {scores['rows']} rows, RMS / MAE in {unit}"]
     axes = list(next(iter(scores["measured"].values())).keys())
     head = f"  {'target':<10}{'model':<13}" + "".join(f"{a:>18}" for a in axes)
     lines.append(head)
     for ref in ("measured", "lowpass", "truth"):
-        for model, per in scores.get(ref, {}).items():
+        models = scores.get(ref, {})
+        for model, per in models.items():
             cells = "".join(f"{per[a]['rms']:>9.3f} /{per[a]['mae']:>7.3f}" for a in axes)
             lines.append(f"  {ref:<10}{model:<13}{cells}")
+        for base in ("arx", "persistence"):
+            if "net" in models and base in models and models["net"]:
+                ratio = "".join(f"{_ratio(models['net'][a]['rms'], models[base][a]['rms']):>18}"
+                                for a in axes)
+                lines.append(f"  {ref:<10}{'net/' + base[:7]:<13}{ratio}")
     return "\n".join(lines)
+
+
+def _ratio(a: float, b: float) -> str:
+    return f"{a / b:.3f}" if b > 0 else "-"
 
 
 def _evaluate(args: argparse.Namespace) -> int:

@@ -84,14 +84,19 @@ def _training_entry(net: PilotNet, flight: NetFlight):
 
 def held_out_rows(net: PilotNet, flight: NetFlight) -> tuple[np.ndarray, str]:
     """The rows of `flight` this net never trained or early-stopped on: a training flight's
-    test blocks, or every row of another flight past the features' history."""
+    test rows (its last part, or its test blocks), or every row of another flight past the
+    features' history."""
     entry = _training_entry(net, flight)
     if entry is not None:
         labels = unrle(entry["labels_rle"])
         if labels.size != len(flight):
             raise NetFileError(f"{flight.source}: matches a training flight of the net but has "
                                f"{len(flight)} rows, the card {labels.size}")
-        return labels == TEST, "test blocks of a training flight"
+        split = net.card.get("split", {})
+        if split.get("order", "blocks") == "blocks":
+            return labels == TEST, "test blocks of a training flight"
+        return labels == TEST, (f"test rows of a training flight (its last "
+                                f"{100 * split.get('test_fraction', 0.2):.0f} %)")
     cfg = FeatureConfig.from_dict(net.card["feature_config"])
     rows = (flight.t_s - flight.t_s[0]) >= cfg.history_s(flight.rate_hz)
     return rows, "whole flight (not a training flight)"

@@ -172,6 +172,8 @@ def lagged(y: np.ndarray, lag: int) -> np.ndarray:
     y = np.asarray(y, dtype=float)
     if lag == 0:
         return y.copy()
+    if lag >= len(y):  # every row's lagged sample lies before the first: the edge pad
+        return np.repeat(y[:1], len(y), axis=0)
     return np.concatenate([np.repeat(y[:1], lag, axis=0), y[:-lag]], axis=0)
 
 

@@ -13,10 +13,12 @@ trained one network per channel, §2.2.2), all on standardised features:
 x_base(k) is the feature in `base_columns[k]` (for the rate target: the fed-back previous
 rate of that axis) or 0: the net then learns the change since then, and where it has to
 extrapolate it falls back towards persistence rather than towards an offset. A (the
-skip) starts at the ridge-regularised least-squares ARX solution and every MLP's last layer at
-zero, so training starts from the linear baseline and early stopping on validation can
-only keep an MLP that beats it there. The .pt file is a dict of tensors and strings
-(format, card JSON, state_dict) read with `torch.load(weights_only=True)`.
+skip) starts at a ridge-regularised least-squares solution (the ARX, or the same on the
+training rows and their time-stretched copies) and every MLP's last layer at zero, so
+training starts from a linear model and early stopping on validation can only keep an
+MLP that beats it there (train.AdamWConfig: by default the skip stays put). The .pt file
+is a dict of tensors and strings (format, card JSON, state_dict) read with
+`torch.load(weights_only=True)`.
 """
 
 from __future__ import annotations
@@ -102,11 +104,14 @@ class PilotNet(nn.Module):
     def predict_numpy(self, x: np.ndarray) -> np.ndarray:
         return self.forward(x).numpy()
 
-    def set_arx(self, weight_standard: np.ndarray) -> None:
-        """Store the ARX solution (K, F+1) on standardised data and start the skip there;
-        every MLP's output layer starts at zero (the net starts as the ARX model)."""
+    def set_arx(self, weight_standard: np.ndarray, start: np.ndarray | None = None) -> None:
+        """Store the ARX solution (K, F+1) on standardised data and start the skip there,
+        or at `start` (the same least squares on more rows: train_net's time-stretched
+        copies); every MLP's output layer starts at zero (the net starts linear)."""
         w = torch.as_tensor(weight_standard, dtype=torch.float64)
         self.arx_weight.copy_(w)
+        if start is not None:
+            w = torch.as_tensor(start, dtype=torch.float64)
         with torch.no_grad():
             self.skip.weight.copy_(w[:, :-1].float())
             self.skip.bias.copy_(w[:, -1].float())

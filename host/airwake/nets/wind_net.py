@@ -32,7 +32,7 @@ import torch
 
 from airwake.nets.features import FeatureConfig, build_features, gaussian_lowpass, gaussian_smooth
 from airwake.nets.model import PilotNet, fit_arx
-from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, block_split
+from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, split_labels
 from airwake.record.flight_table import FlightTableError
 
 WIND_TRUTH = ("truth_wind_vx_m_s", "truth_wind_vy_m_s", "truth_wind_vz_m_s",
@@ -117,7 +117,7 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
     from airwake.nets.train import AdamWConfig, train_adamw, versions
 
     config = config or WindNetConfig()
-    split = split or SplitConfig()
+    split = split or SplitConfig(order="blocks")
     fcfg = FeatureConfig(rate_lag_samples=0)
     t0 = time.perf_counter()
     rng = np.random.default_rng(seed)
@@ -127,7 +127,7 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
         if truth is None:
             raise FlightTableError(f"{_df(table)[1]}: no truth_wind_* columns: a wind net "
                                    "trains on simulated flights")
-        lab = block_split(t, split, history_s(fcfg, config, rate_hz), rng)
+        lab = split_labels(t, split, history_s(fcfg, config, rate_hz), rng)
         lab = np.where(lab == TEST, TRAIN, lab)  # other flights are the test set
         xs.append(x)
         ys.append(truth)
@@ -150,7 +150,8 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
         z = net.standardise(x)
         ys_ = net.standardise_target(x, y)
         net.set_arx(fit_arx(z[tr].double().numpy(), ys_[tr].double().numpy()))
-        cfg = adamw or AdamWConfig(lr=2e-3, max_epochs=60, patience=8)
+        cfg = adamw or AdamWConfig(lr=2e-3, max_epochs=60, patience=8, per_axis=False,
+                                   train_skip=True, min_gain_se=0.0)
         info = train_adamw(net, z[tr], ys_[tr], z[va], ys_[va], cfg, gen)
         net.eval()
         pred_va, arx_va = net.predict_numpy(x[va]), net.predict_arx(x[va])
