@@ -61,6 +61,10 @@ def calibration_table(result, flight, start) -> dict:
     if info.get("envelope"):
         out["envelope"] = info["envelope"]
         out["trusted"] = {k: v["trusted"] for k, v in info["wind_trust"].items()}
+    # what the fitted model still misses on its own calibration flight (still air: the
+    # wind is known to be zero), per channel after the front end: the wind estimator's
+    # floor for the channel noise, so model error is never taken for wind
+    out["model_error_std"] = [float(v) for v in result.rms_after]
     return out
 
 

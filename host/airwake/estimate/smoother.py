@@ -132,11 +132,14 @@ class WindSmoother:
     model: HeliModel; pre: Prefiltered flight; prior: WindPrior (the start; a copy is
     learned); noise_std: (6,) channel noise to start from (default: 5 % of each filtered
     channel's std, floored at 0.01); iterations: passes; relinearise: how many of them
-    relinearise the model; learn: which of "sigma", "noise" the EM updates."""
+    relinearise the model; learn: which of "sigma", "noise" the EM updates; noise_floor:
+    (6,) the least channel noise the EM may learn — the model's own error on its still-air
+    calibration flight (`[calibration] model_error_std`), so that a misfit the model
+    already has in still air is not explained as wind (None: NOISE_FLOOR only)."""
 
     def __init__(self, model, pre: Prefiltered, prior: WindPrior, noise_std=None,
                  iterations: int = ITERATIONS, relinearise: int = RELINEARISE,
-                 learn=LEARN, source_data=None) -> None:
+                 learn=LEARN, source_data=None, noise_floor=None) -> None:
         if iterations < 1:
             raise ValueError(f"iterations = {iterations!r}: must be >= 1")
         unknown = set(learn) - set(LEARN)
@@ -155,8 +158,15 @@ class WindSmoother:
         m = self.m
         self.mu, self.xi = slice(m, m + 6), slice(m + 6, m + 12)
         self.n_state = m + 12
+        self.noise_floor = np.full(6, NOISE_FLOOR)
+        if noise_floor is not None:
+            floor = np.asarray(noise_floor, dtype=float)
+            if floor.shape != (6,) or np.any(~np.isfinite(floor)) or np.any(floor < 0):
+                raise ValueError(f"noise_floor must be 6 numbers >= 0, got {noise_floor!r}")
+            self.noise_floor = np.maximum(floor, NOISE_FLOOR)
         if noise_std is None:
             noise_std = np.maximum(0.05 * np.std(data.z, axis=0), 0.01)
+        noise_std = np.maximum(np.asarray(noise_std, dtype=float), self.noise_floor)
         self.noise_std = np.asarray(noise_std, dtype=float).copy()
         if self.noise_std.shape != (6,) or np.any(~np.isfinite(self.noise_std)) or np.any(
                 self.noise_std <= 0):
@@ -403,7 +413,7 @@ class WindSmoother:
             new.sigma = np.maximum(np.sqrt(q / (1.0 - a * a)), SIGMA_FLOOR)
         new_r = r_diag
         if "noise" in self.learn and count > 0:
-            new_r = np.maximum(res2 / count, NOISE_FLOOR**2)
+            new_r = np.maximum(res2 / count, self.noise_floor**2)
         return new, new_r
 
     # -- the whole flight -----------------------------------------------------------

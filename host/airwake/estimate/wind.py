@@ -114,9 +114,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     smoother = result = None
     cutoff = CUTOFF_HZ if cutoff_hz is None else cutoff_hz
     if method == "smoother":
+        floor = model_error_floor(model)
+        meta["model_error_std"] = None if floor is None else floor.tolist()
         df, extra, seconds, smoother, result = _run_smoother(
             heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
-            airspeed_m_s, ins_velocity_std, progress)
+            airspeed_m_s, ins_velocity_std, progress, floor)
     else:
         df, extra, seconds = _run_apf(
             heli, data, cutoff,
@@ -129,6 +131,25 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     meta["seconds"] = seconds
     meta["realtime_factor"] = span / seconds if seconds > 0 else 0.0
     return WindEstimate(df, meta, seconds, smoother, result)
+
+
+def model_error_floor(spec) -> np.ndarray | None:
+    """(6,) the model's error on its still-air calibration flight after the front end
+    (the spec's `[calibration] model_error_std`, written by `airwake calibrate`), or None
+    for a spec without it (a shipped table, a model object, an older calibration)."""
+    from airwake.heli import spec_calibration
+
+    cal = spec_calibration(spec) or {}
+    values = cal.get("model_error_std")
+    if values is None:
+        return None
+    floor = np.asarray(values, dtype=float)
+    if floor.shape != (6,) or np.any(~np.isfinite(floor)) or np.any(floor < 0):
+        from airwake.estimate.errors import WindEstimationError
+
+        raise WindEstimationError(f"{spec}: [calibration] model_error_std = {values!r}: "
+                                  "expected 6 numbers >= 0 (one per channel)")
+    return floor
 
 
 def envelope_check(spec, data, heli, df) -> dict | None:
@@ -169,7 +190,7 @@ def _frame(t, mean, std, ins_velocity_std, extra_cols=None):
 
 
 def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
-                  progress):
+                  progress, noise_floor=None):
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.prefilter import prefilter
     from airwake.estimate.smoother import ITERATIONS, WindSmoother
@@ -185,7 +206,8 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
                                    else airspeed_m_s)
     passes = ITERATIONS if em_passes is None else int(em_passes)
     try:
-        sm = WindSmoother(heli, pre, prior, iterations=passes, source_data=data)
+        sm = WindSmoother(heli, pre, prior, iterations=passes, source_data=data,
+                          noise_floor=noise_floor)
     except MODEL_FAILURES as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
