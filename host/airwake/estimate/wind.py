@@ -430,7 +430,9 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
     the truth wind with the channels' true noise after the front end (RMS of measured -
     truth_* channels, filtered and decimated like the estimator's input) when the flight
     has them and `use_truth`, else at the estimate with the learned noise. The INS
-    velocity error is added to the mean-flow components, as in the posterior.
+    velocity error is added to the mean-flow components, as in the posterior, and the
+    model's own still-air error (`[calibration] model_error_std`, when the spec has it)
+    to the channel noise: the bound for this model on this airframe.
     Returns {"std": (n, 6), "noise_std": (6,), "at": "truth"|"estimate"}."""
     import dataclasses
 
@@ -454,6 +456,11 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
     else:
         noise = res.noise_std
         wind = res.mean
+    # the model's own error (its still-air misfit, the smoother's floor) is part of what
+    # the channels carry about the wind: a bound without it is a bound for a perfect model
+    floor = est.metadata.get("model_error_std")
+    if floor is not None:
+        noise = np.sqrt(np.asarray(noise, float) ** 2 + np.asarray(floor, float) ** 2)
     std = sm.bound(wind, res.prior, np.maximum(noise, 1e-6))
     ins = float(est.metadata.get("ins_velocity_std_m_s", 0.0))
     std[:, :3] = np.sqrt(std[:, :3] ** 2 + ins**2)
