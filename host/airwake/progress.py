@@ -95,11 +95,13 @@ class Progress:
         self._display.rich.update(self._task, completed=float(done), count=self._count(done),
                                   extra=extra)
 
-    def finish(self, extra: str = "") -> None:
+    def finish(self, extra: str = "", done: float | None = None) -> None:
+        """The final state: `done` (default: all of `total`) and `extra`."""
         if self._display is None:
             return
+        done = self.total if done is None else float(done)
         with _lock:
-            self._display.rich.update(self._task, completed=max(self.total, 1e-12),
-                                      count=self._count(self.total), extra=extra)
+            self._display.rich.update(self._task, completed=max(done, 1e-12),
+                                      count=self._count(done), extra=extra)
             self._display.close_one()
             self._display = None

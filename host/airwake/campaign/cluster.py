@@ -7,8 +7,10 @@
 Each worker process runs one task at a time (one thread: the steps are CPU-bound numpy,
 numba and scipy, and their BLAS and numba pools are held to one thread too, so N workers
 use N cores without oversubscription). `WarmWorker`, a worker plugin, imports the steps
-and compiles (or loads from the disk cache) the model's numba kernels and imports torch
-once when a worker starts, not in every task; a worker that restarts after a crash runs
+and compiles (or loads from the disk cache) the model's numba kernels once when a worker
+starts, not in every task (and torch with the networks' code when a
+step uses a network: wind estimates by a wind net; no other step imports torch, so other
+campaigns' workers skip its import and memory); a worker that restarts after a crash runs
 it again. Workers of an existing cluster need `airwake` installed and the campaign's
 files (and its output directory) at the same paths: a shared file system.
 """
@@ -16,6 +18,7 @@ files (and its output directory) at the same paths: a shared file system.
 from __future__ import annotations
 
 import os
+import sys
 from contextlib import contextmanager
 
 from distributed import WorkerPlugin
@@ -26,31 +29,67 @@ THREAD_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THRE
 
 
 def limit_threads() -> None:
-    """Hold BLAS, numba and torch to one thread in this process."""
+    """Hold BLAS, numba and torch to one thread in this process (a worker's setting)."""
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(1)
-    try:
-        import numba
-
-        numba.set_num_threads(1)
-    except (ImportError, ValueError):
-        pass
-    import torch
-
-    torch.set_num_threads(1)
+    _set_threads(1, 1)
 
 
-def warm(models=("table52",)) -> dict:
+def _set_threads(numba_threads: int, torch_threads: int) -> None:
+    import numba
+
+    numba.set_num_threads(min(numba_threads, numba.config.NUMBA_NUM_THREADS))
+    if "torch" in sys.modules:  # set when a step uses it (OMP_NUM_THREADS=1 before that)
+        sys.modules["torch"].set_num_threads(torch_threads)
+
+
+@contextmanager
+def single_threaded():
+    """`limit_threads` for a block of this process, the previous setting restored after
+    (a campaign run here, as `--workers 0` or a test, leaves its process as it found it)."""
+    import numba
+    from threadpoolctl import threadpool_limits
+
+    torch = sys.modules.get("torch")
+    before = numba.get_num_threads(), torch.get_num_threads() if torch else 1
+    with threadpool_limits(1):
+        _set_threads(1, 1)
+        try:
+            yield
+        finally:
+            _set_threads(*before)
+
+
+def warm(models=("table52",), torch: bool = False) -> dict:
     """Import every step, hold threads to one and compile (or load) the kernels of the
-    given model specs by one model evaluation each. Returns what it did (for logs)."""
+    given model specs by one model evaluation each; with `torch` (a step uses a network:
+    wind estimates by a wind net) import torch and load the networks' code too. Returns
+    what it did (for logs)."""
     import time
 
     t0 = time.perf_counter()
+    if torch:
+        import airwake.nets.wind_net  # noqa: F401 — torch and the nets' modules
     limit_threads()
+    import importlib
+    import io
+
     import matplotlib
 
     matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(1, 1))  # fonts and the PNG writer, once
+    fig.savefig(io.BytesIO(), format="png")
+    plt.close(fig)
+    from airwake.estimate.truth import PROVIDERS
+
+    for name in PROVIDERS:  # the simulator's truth field, for scoring simulated flights
+        try:
+            importlib.import_module(name)
+        except ModuleNotFoundError:
+            pass
     import airwake.calibrate  # noqa: F401
     import airwake.discrepancy.report  # noqa: F401
     import airwake.estimate.map_report  # noqa: F401
@@ -81,13 +120,14 @@ class WarmWorker(WorkerPlugin):
 
     name = "airwake-campaign-warm"
 
-    def __init__(self, models=("table52",)) -> None:
+    def __init__(self, models=("table52",), torch: bool = False) -> None:
         self.models = tuple(models)
+        self.torch = torch
 
     def setup(self, worker) -> None:
         for k, v in THREAD_ENV.items():
             os.environ.setdefault(k, v)
-        info = warm(self.models)
+        info = warm(self.models, self.torch)
         worker.log_event("airwake-campaign-warm", {"worker": worker.address, **info})
 
 

@@ -62,5 +62,6 @@ class CampaignDisplay:
     def close(self) -> None:
         with self._lock:
             for step, bar in self.bars.items():
-                self.counts[step]["running"] = 0
-                bar.finish(self._text(step))
+                c = self.counts[step]
+                c["running"] = 0
+                bar.finish(self._text(step), done=c["done"] + c["failed"] + c["skipped"])

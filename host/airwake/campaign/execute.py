@@ -65,7 +65,9 @@ def _run_dask(client, plan: Plan, todo: list, records: dict, store: Store,
 
     models = sorted({t.args["start"] for t in plan.tasks if t.step == "calibrate"}
                     | {t.args["model"] for t in plan.tasks if "model" in t.args})
-    client.register_plugin(WarmWorker(models or ("table52",)))
+    nets = any(t.step == "estimate" and t.args["options"].get("method") == "net"
+               for t in plan.tasks)
+    client.register_plugin(WarmWorker(models or ("table52",), torch=nets))
     client.subscribe_topic(EVENT_TOPIC, lambda event: display.started(event[1]["step"]))
     futures = {}
     for t in todo:
@@ -88,16 +90,17 @@ def _run_dask(client, plan: Plan, todo: list, records: dict, store: Store,
 
 def _run_here(plan: Plan, todo: list, records: dict, store: Store,
               display: CampaignDisplay, on_record) -> None:
-    from airwake.campaign.cluster import limit_threads
+    from airwake.campaign.cluster import single_threaded
 
-    limit_threads()  # the workers' setting: results do not depend on where they ran
-    for t in todo:
-        display.started(t.step)
-        rec = run_task(t, str(store.root), {role: records[k] for role, k in t.deps.items()})
-        records[t.key] = rec
-        display.finished(rec)
-        if on_record is not None:
-            on_record(rec)
+    with single_threaded():  # the workers' setting: results do not depend on where they ran
+        for t in todo:
+            display.started(t.step)
+            rec = run_task(t, str(store.root),
+                           {role: records[k] for role, k in t.deps.items()})
+            records[t.key] = rec
+            display.finished(rec)
+            if on_record is not None:
+                on_record(rec)
 
 
 def _upstream_failures(plan: Plan, records: dict) -> None:

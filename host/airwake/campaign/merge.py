@@ -109,7 +109,7 @@ def merge_cells(tables: dict, u_refs: dict | None = None, cell_m: float = 1.0,
             v = float(np.sum(t * (g[name].to_numpy(float) ** 2 + (m_f - row[comp]) ** 2)) / w)
             row[name] = math.sqrt(v)
             sig2.append(v)
-        ti = math.sqrt(float(np.mean(sig2))) / u_ref
+        ti = math.sqrt(float(np.mean(sig2))) / u_ref if u_ref > 0 else math.nan
         row["ti"] = ti
         row["ti_std"] = ti / math.sqrt(2.0 * max(w / ERROR_CORRELATION_S, 1.0))
         row["speed_m_s"] = float(np.linalg.norm([row[n] for n in FLOW_NAMES]))
@@ -148,10 +148,12 @@ def score_cells(cells, grid) -> dict:
     return out
 
 
-def merge_beta(cell_files: dict, beta_deg: float, grid, out: Path) -> dict:
+def merge_beta(cell_files: dict, beta_deg: float, grid, out: Path,
+               missing: list | None = None) -> dict:
     """Merge the flights' cells.parquet files of one heading into OUT: map.parquet (every
     cell, `merge_cells`), the figures of the cells with >= grid.min_seconds, summary
-    numbers (`score_cells`) and index.html. Returns the summary."""
+    numbers (`score_cells`) and index.html. `missing`: the heading's flights whose map
+    did not finish (named on the page). Returns the summary."""
     from airwake.estimate.airwake_map import write_map
     from airwake.estimate.map_plots import plot_cell_values, plot_map
     from airwake.record.flight_table import read_flight_table
@@ -167,7 +169,8 @@ def merge_beta(cell_files: dict, beta_deg: float, grid, out: Path) -> dict:
     u_ref = cells.attrs["reference_speed_m_s"]
     settings = {"beta_deg": beta_deg, "frame": "ship", "cell_m": grid.cell_m,
                 "layer_m": grid.layer_m, "min_seconds": grid.min_seconds,
-                "reference_speed_m_s": u_ref, "flights": sorted(tables)}
+                "reference_speed_m_s": u_ref, "flights": sorted(tables),
+                "missing": list(missing or [])}
     out.mkdir(parents=True, exist_ok=True)
     write_map(cells, out, {"source": "airwake campaign merge", **settings})
     shown = cells[cells["seconds"] >= grid.min_seconds - 1e-9]
@@ -214,5 +217,7 @@ with at least {s['min_seconds']:g} s of data; the deck area (the flight deck and
 {figs}{score}
 <p>Cells: map.parquet (mean flow and turbulence per cell with their std, the flights'
 spread and disagreement; docs/campaigns.md).</p>
-<p>Flights: {esc(', '.join(s['flights']))}</p></body></html>
+<p>Flights: {esc(', '.join(s['flights']))}</p>
+{f"<p>Left out (their map did not finish): {esc(', '.join(s['missing']))}</p>"
+ if s['missing'] else ''}</body></html>
 """

@@ -105,7 +105,9 @@ def build_plan(campaign: Campaign, digests: DigestCache) -> Plan:
         m_ident, m_deps, m_args = models[f.helicopter]
         wind = None
         if "estimate" in steps:
-            wind = add("estimate", f.name, {**f_ident, **m_ident}, {**f_deps, **m_deps},
+            net = ({"net": digests.digest(Path(opts["estimate"]["net"]))}
+                   if "net" in opts["estimate"] else {})
+            wind = add("estimate", f.name, {**f_ident, **m_ident, **net}, {**f_deps, **m_deps},
                        {**f_args, **m_args, "options": opts["estimate"]})
         if "map" in steps:
             key = add("map", f.name, {**f_ident, "grid": campaign.grid.__dict__},

@@ -19,7 +19,7 @@ import time
 import traceback
 from pathlib import Path
 
-from airwake.campaign.store import Store
+from airwake.campaign.store import Store, task_key
 
 EVENT_TOPIC = "airwake-campaign"
 # the output of an upstream task each input role reads
@@ -64,13 +64,29 @@ def inputs_of(task, upstream: dict, store: Store) -> dict:
     return paths
 
 
+def result_key(task, upstream: dict) -> tuple[str, dict, list]:
+    """(key, the upstream records the step reads, the subjects left out). A merge goes on
+    without the flights whose map did not finish: the flights it holds become part of its
+    key, so the next run, which retries them, merges again instead of reusing it."""
+    if task.step != "merge":
+        return task.key, upstream, []
+    done = {r: rec for r, rec in upstream.items() if rec["status"] == "done"}
+    missing = sorted(rec["subject"] for rec in upstream.values() if rec["status"] != "done")
+    if not missing or not done:
+        return task.key, upstream, []
+    return (task_key("merge", {"of": task.key,
+                               "maps": sorted(rec["key"] for rec in done.values())}),
+            done, missing)
+
+
 def run_task(task, store_root: str, upstream: dict) -> dict:
     """Run one task (module docstring); never raises for a step's own failure."""
     from airwake.campaign.steps import STEPS
 
     store = Store(store_root)
-    if store.done(task.key):  # finished by an earlier run, or by a worker that then died
-        return {**store.load(task.key), "cached": True}
+    key, upstream, _ = result_key(task, upstream)
+    if store.done(key):  # finished by an earlier run, or by a worker that then died
+        return {**store.load(key), "cached": True}
     bad = {role: rec for role, rec in upstream.items() if rec["status"] != "done"}
     if bad:
         role, rec = next(iter(bad.items()))
@@ -79,7 +95,7 @@ def run_task(task, store_root: str, upstream: dict) -> dict:
                            f"({rec['status']}): {rec['error']}")
     _announce(task)
     t0 = time.perf_counter()
-    tmp = store.scratch(task.key)
+    tmp = store.scratch(key)
     try:
         summary, outputs = STEPS[task.step](task, inputs_of(task, upstream, store), tmp)
     except Exception as exc:  # noqa: BLE001 — one flight's failure is reported, not raised
@@ -87,8 +103,8 @@ def run_task(task, store_root: str, upstream: dict) -> dict:
         return base_record(task, "failed", seconds=time.perf_counter() - t0,
                            worker=_worker_name(), error=f"{type(exc).__name__}: {exc}",
                            traceback=traceback.format_exc())
-    record = base_record(task, "done", seconds=time.perf_counter() - t0,
+    record = base_record(task, "done", key=key, seconds=time.perf_counter() - t0,
                          worker=_worker_name(), outputs=outputs, summary=summary,
                          finished_utc=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
-    store.commit(task.key, Path(tmp), record)
+    store.commit(key, Path(tmp), record)
     return record

@@ -41,7 +41,8 @@ HELICOPTER_KEYS = ("model", "calibration")
 
 @dataclass(frozen=True)
 class Option:
-    """One step option: its TOML type ("float", "int", "bool", "str", "strs", "floats"),
+    """One step option: its TOML type ("float", "int", "bool", "str", "strs", "floats",
+    "path": a file relative to the campaign file),
     bounds or choices, the length of a list, and the keyword of the API call it feeds."""
 
     kind: str
@@ -78,7 +79,8 @@ STEP_OPTIONS: dict[str, dict[str, Option]] = {
         "cutoff_hz": Option("float", "cutoff_hz", lo=0.0),
     },
     "estimate": {
-        "method": Option("str", "method", choices=("smoother", "apf")),
+        "method": Option("str", "method", choices=("smoother", "apf", "net")),
+        "net": Option("path", "net"),
         "cutoff_hz": Option("float", "cutoff_hz", lo=0.0),
         "rate_hz": Option("float", "rate_hz", lo=0.0, lo_open=True),
         "em_passes": Option("int", "em_passes", lo=1),
@@ -202,7 +204,14 @@ def _number(where: _Where, key: str, value, integer: bool = False) -> float:
     return value
 
 
-def _check_option(where: _Where, key: str, opt: Option, value):
+def _check_option(where: _Where, key: str, opt: Option, value, base: Path | None = None):
+    if opt.kind == "path":
+        if not isinstance(value, str) or not value:
+            raise where.error(key, value, "expected a file path")
+        path = (base / value).resolve() if base is not None else Path(value)
+        if not path.is_file():
+            raise where.error(key, value, f"{path} does not exist")
+        return str(path)
     if opt.kind == "bool":
         if not isinstance(value, bool):
             raise where.error(key, value, "expected true or false")
@@ -267,7 +276,7 @@ def _grid(where: _Where, table: dict) -> Grid:
     return grid
 
 
-def _steps(where: _Where, table: dict) -> tuple[tuple[str, ...], dict]:
+def _steps(where: _Where, table: dict, base: Path) -> tuple[tuple[str, ...], dict]:
     _unknown(where, "steps.", table, ["run", *STEPS])
     run = table.get("run", list(STEPS))
     if not (isinstance(run, list) and run and all(isinstance(s, str) for s in run)):
@@ -283,8 +292,14 @@ def _steps(where: _Where, table: dict) -> tuple[tuple[str, ...], dict]:
         given = _table(where, f"steps.{step}", table.get(step, {}))
         known = STEP_OPTIONS[step]
         _unknown(where, f"steps.{step}.", given, list(known))
-        options[step] = {known[k].api: _check_option(where, f"steps.{step}.{k}", known[k], v)
+        options[step] = {known[k].api: _check_option(where, f"steps.{step}.{k}", known[k], v,
+                                                     base)
                          for k, v in given.items()}
+    est = options["estimate"]
+    if (est.get("method") == "net") != ("net" in est):
+        raise where.error("steps.estimate.method", est.get("method", "smoother"),
+                          "method 'net' needs steps.estimate.net = a wind net file (and net "
+                          "needs method = 'net')")
     return tuple(s for s in STEPS if s in run), options
 
 
@@ -429,7 +444,7 @@ def load_campaign(path) -> Campaign:
         if not isinstance(data.get(key, ""), str):
             raise where.error(key, data[key], "expected a string")
     grid = _grid(where, _table(where, "grid", data.get("grid", {})))
-    steps, options = _steps(where, _table(where, "steps", data.get("steps", {})))
+    steps, options = _steps(where, _table(where, "steps", data.get("steps", {})), base)
     helis = _helicopters(where, _table(where, "helicopters", data.get("helicopters", {})),
                          base)
     cal_files = {h.calibration.path for h in helis.values() if h.calibration}

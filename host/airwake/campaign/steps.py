@@ -143,7 +143,9 @@ def report(task, inputs: dict, out: Path):
 def merge(task, inputs: dict, out: Path):
     cells = {role.split(" ", 1)[1]: path for role, path in inputs.items()
              if role.startswith("map ")}
-    summary = merge_beta(cells, task.args["beta_deg"], task.args["grid"], out)
+    missing = sorted(role.split(" ", 1)[1] for role in task.deps
+                     if role.startswith("map ") and role not in inputs)
+    summary = merge_beta(cells, task.args["beta_deg"], task.args["grid"], out, missing)
     return summary, {"page": "index.html", "map": "map.parquet"}
 
 
