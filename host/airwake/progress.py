@@ -61,7 +61,9 @@ atexit.register(_stop_all)
 
 
 class Progress:
-    """Report `done / total` for a named task (updates throttled to `min_interval_s`)."""
+    """Report `done / total` for a named task (updates throttled to `min_interval_s`). The
+    bar appears at its first update: one made and dropped (a command that fails before its
+    loop starts) leaves no trace."""
 
     def __init__(self, label: str, total: float, unit: str = "", stream: TextIO | None = None,
                  min_interval_s: float = 0.2, enabled: bool = True) -> None:
@@ -70,38 +72,45 @@ class Progress:
         self.unit = unit
         self.min_interval_s = min_interval_s
         self.enabled = enabled
+        self._stream = stream
         self._last = -float("inf")
         self._display: _Display | None = None
-        if not enabled:
-            return
-        stream = stream if stream is not None else sys.stderr
-        with _lock:
-            display = _displays.get(id(stream))
-            if display is None:
-                display = _displays[id(stream)] = _Display(stream)
-            display.open += 1
-            self._display = display
-            self._task = display.rich.add_task(label, total=max(self.total, 1e-12),
-                                               count=self._count(0.0), extra="")
+        self._finished = not enabled
 
     def _count(self, done: float) -> str:
         return f"{done:.6g}/{self.total:.6g}{self.unit}"
 
+    def _show(self) -> _Display | None:
+        """The display this bar is on (joined at the first call), None once finished."""
+        if self._display is None and not self._finished:
+            stream = self._stream if self._stream is not None else sys.stderr
+            with _lock:
+                display = _displays.get(id(stream))
+                if display is None:
+                    display = _displays[id(stream)] = _Display(stream)
+                display.open += 1
+                self._task = display.rich.add_task(self.label, total=max(self.total, 1e-12),
+                                                   count=self._count(0.0), extra="")
+                self._display = display
+        return self._display
+
     def update(self, done: float, extra: str = "") -> None:
         now = time.monotonic()
-        if self._display is None or now - self._last < self.min_interval_s:
+        if self._finished or now - self._last < self.min_interval_s:
             return
         self._last = now
-        self._display.rich.update(self._task, completed=float(done), count=self._count(done),
-                                  extra=extra)
+        self._show().rich.update(self._task, completed=float(done), count=self._count(done),
+                                 extra=extra)
 
     def finish(self, extra: str = "", done: float | None = None) -> None:
         """The final state: `done` (default: all of `total`) and `extra`."""
-        if self._display is None:
+        display = self._show()
+        if display is None:
             return
         done = self.total if done is None else float(done)
         with _lock:
-            self._display.rich.update(self._task, completed=max(done, 1e-12),
-                                      count=self._count(done), extra=extra)
-            self._display.close_one()
+            display.rich.update(self._task, completed=max(done, 1e-12),
+                                count=self._count(done), extra=extra)
+            display.close_one()
             self._display = None
+            self._finished = True

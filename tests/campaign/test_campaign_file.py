@@ -5,7 +5,6 @@ import numpy as np
 import pandas as pd
 import pytest
 import tomli_w
-
 from airwake.campaign import CampaignError, load_campaign
 from airwake.campaign.spec import Grid
 from airwake.record.flight_table import write_flight_table

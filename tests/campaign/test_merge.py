@@ -5,11 +5,10 @@ import math
 
 import numpy as np
 import pandas as pd
-from hypothesis import given, settings
-from hypothesis import strategies as st
-
 from airwake.campaign.merge import COMPONENTS, merge_cells, score_cells, spread_name, std_name
 from airwake.campaign.spec import Grid
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 
 def cell(ix=-5, iy=0, iz=-3, seconds=4.0, mean=(3.0, 0.2, -0.1), std=0.1, sigma=0.3,

@@ -4,8 +4,8 @@ stations, and their planned paths give every deck-area cell enough time for a me
 import numpy as np
 import pytest
 import tomli_w
-
 from airwake.campaign.spec import Grid
+
 from hil_sim.campaign.plan import (
     calibration_scenario,
     flight_scenario,

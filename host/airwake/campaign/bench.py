@@ -1,0 +1,93 @@
+"""Campaign figures for `airwake bench` (docs/campaigns.md).
+
+One simulated campaign (`airwake sim campaign`: 12 flights at one heading with the full
+sweep plans, every station of the deck area, and a still-air calibration flight; quick:
+8 flights of 30 s, a 60 s calibration flight, no model report) is run three times:
+
+    campaign_run_1_worker_s, campaign_run_2_workers_s   the campaign from an empty store on
+        a LocalCluster of 1 and of 2 workers: the wall time a user waits, cluster start and
+        worker warm-up included
+    campaign_speedup_2_workers    their ratio (target >= 1.7 on 2 cores)
+    campaign_rerun_s, campaign_rerun_fraction   the finished campaign run again (every
+        result in the store) and its share of the 2-worker run (target < 0.05)
+    campaign_<step>_s_per_task    compute seconds per task of each step (mean), and
+    campaign_flight_s             their sum over one flight's steps (estimate, map, report)
+    campaign_merged_deck_coverage, campaign_merged_deck_cells_covered   the merged map's
+        deck-area cells with >= 2 s (target >= 0.8 with 12 flights)
+    campaign_merged_field_rms_<u|v|w>_m_s   its error against the simulator's field at the
+        cell centres over those cells (target <= 0.3 m/s)
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+SECTION = "campaign"
+
+
+def _simulate(out: Path, quick: bool) -> Path:
+    args = ["--flights", "8" if quick else "12", "--betas", "0", "--seed", "21"]
+    if quick:
+        args += ["--duration", "30", "--calibration-s", "60"]
+    done = subprocess.run([sys.executable, "-m", "airwake.cli", "sim", "campaign", "--out",
+                           str(out), *args, "--json"], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"airwake sim campaign failed: {done.stderr[-2000:]}")
+    path = out / "campaign.toml"
+    if quick:
+        import tomllib
+
+        import tomli_w
+
+        table = tomllib.loads(path.read_text())
+        table["steps"]["run"] = ["calibrate", "estimate", "map"]
+        path.write_text(tomli_w.dumps(table))
+    return path
+
+
+def _timed(campaign, out: Path, workers: int):
+    from airwake.campaign.execute import run_campaign
+
+    t0 = time.perf_counter()
+    run = run_campaign(campaign, out, workers=workers, show=False)
+    return run, time.perf_counter() - t0
+
+
+def run(quick: bool) -> dict:
+    from airwake.campaign.spec import load_campaign
+
+    with tempfile.TemporaryDirectory(prefix="airwake-campaign-bench-") as tmp:
+        tmp = Path(tmp)
+        campaign = load_campaign(_simulate(tmp / "sim", quick))
+        two, t2 = _timed(campaign, tmp / "two", 2)
+        one, t1 = _timed(campaign, tmp / "one", 1)
+        again, t_again = _timed(campaign, tmp / "two", 2)
+        if again.ran:
+            raise RuntimeError(f"the re-run ran {again.ran} tasks instead of none")
+        out = {"campaign_flights": len(campaign.flights),
+               "campaign_run_1_worker_s": t1, "campaign_run_2_workers_s": t2,
+               "campaign_speedup_2_workers": t1 / t2,
+               "campaign_rerun_s": t_again, "campaign_rerun_fraction": t_again / t2}
+        per_step: dict[str, list] = {}
+        for rec in two.records.values():
+            if rec["status"] == "done":
+                per_step.setdefault(rec["step"], []).append(rec["seconds"])
+        for step, secs in sorted(per_step.items()):
+            out[f"campaign_{step}_s_per_task"] = sum(secs) / len(secs)
+        out["campaign_flight_s"] = sum(out.get(f"campaign_{s}_s_per_task", 0.0)
+                                       for s in ("estimate", "map", "report"))
+        import pandas as pd
+
+        m = pd.read_parquet(two.out / "merged.parquet").iloc[0]
+        out["campaign_merged_deck_coverage"] = float(m["deck_coverage"])
+        out["campaign_merged_deck_cells_covered"] = int(m["deck_cells_covered"])
+        for c in ("u", "v", "w"):
+            key = f"field_rms_deck_{c}_m_s"
+            if key in m:
+                out[f"campaign_merged_field_rms_{c}_m_s"] = float(m[key])
+        out["campaign_failed_tasks"] = len(two.failed)
+    return out
