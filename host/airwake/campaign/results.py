@@ -155,6 +155,7 @@ def _page(campaign, table, merged, records, store, out: Path) -> str:
                     f"<td>{secs}</td><td>{_f(r['map_cells'], '.0f')}</td>"
                     f"<td class=l>{links}</td></tr>")
     n_fail = int((table["status"] != "done").sum()) if len(table) else 0
+    n_cal = int((table["role"] == "calibration").sum()) if len(table) else 0
     return f"""<!doctype html><html><head><meta charset="utf-8">
 <title>campaign {esc(campaign.name)}</title>
 <style>body{{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em}}
@@ -163,7 +164,8 @@ td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:right}}.l{{text-align:
 tr.failed td{{background:#fde8e8}}pre{{text-align:left;white-space:pre-wrap;font-size:.85em}}
 </style></head><body><h1>Campaign {esc(campaign.name)}</h1>
 <p>{esc(campaign.description)}</p>
-<p>{len(table)} flights ({n_fail} failed), steps {esc(', '.join(campaign.steps))};
+<p>{len(table) - n_cal} flights and {n_cal} calibration flight(s), {n_fail} failed; steps
+{esc(', '.join(campaign.steps))};
 grid {campaign.grid.cell_m:g} m cells, {campaign.grid.layer_m:g} m layers.
 Numbers: summary.parquet, merged.parquet (docs/campaigns.md).</p>
 <h2>Merged airwake maps</h2>{''.join(maps) or '<p>none (no map step)</p>'}
