@@ -45,6 +45,7 @@ def _simulate(out: Path, quick: bool) -> Path:
 
         table = tomllib.loads(path.read_text())
         table["steps"]["run"] = ["calibrate", "estimate", "map"]
+        table["steps"]["calibrate"]["max_windows"] = 8
         path.write_text(tomli_w.dumps(table))
     return path
 
