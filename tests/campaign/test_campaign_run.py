@@ -6,11 +6,13 @@ import os
 import signal
 
 import pandas as pd
+import pytest
 from airwake.campaign import load_campaign, run_campaign
 from airwake.campaign.cluster import open_client
 from campaigns import assert_same_results, broken_flight, outputs, write_campaign
 
 
+@pytest.mark.slow
 def test_killed_worker_loses_no_result_and_a_failed_flight_stops_only_itself(sim_campaign,
                                                                               tmp_path):
     broken = broken_flight(sim_campaign, tmp_path / "broken")

@@ -29,6 +29,7 @@ def _stop(proc) -> None:
         proc.wait(10)
 
 
+@pytest.mark.slow
 def test_campaign_runs_on_a_scheduler_and_its_index_opens_in_a_browser(sim_campaign, tmp_path):
     if not DASK.exists():
         pytest.skip(f"no {DASK}")
