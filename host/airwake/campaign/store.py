@@ -10,7 +10,8 @@
 A key hashes the step, the digests of its input files (a flight table's bytes, a
 recording's files), the keys of the results it reads (so a changed calibration re-runs
 every estimate that used it), the model spec's bytes, the step's options and the code
-version (the sources of `airwake` and `hil_sim`: any code change re-runs). A re-run finds
+version (the sources of `airwake` and of the simulator that scores simulated flights: any
+code change re-runs). A re-run finds
 every unchanged result by its key and skips it; an interrupted run left only complete
 results behind (a result directory appears by one rename, record.json inside), so it
 resumes where it stopped. Two workers finishing the same task (a task re-run after its
@@ -88,17 +89,19 @@ class DigestCache:
 
 @lru_cache(maxsize=1)
 def code_version() -> str:
-    """airwake's version and a digest of the sources of `airwake` and `hil_sim`."""
+    """airwake's version and a digest of the sources of `airwake` and of the packages that
+    score simulated flights (`airwake.estimate.truth.PROVIDERS`: the simulator)."""
+    import importlib.util
+
     import airwake
+    from airwake.estimate.truth import PROVIDERS
 
     h = hashlib.sha256()
     roots = [Path(airwake.__file__).resolve().parent]
-    try:
-        import hil_sim
-
-        roots.append(Path(hil_sim.__file__).resolve().parent)
-    except ModuleNotFoundError:
-        pass
+    for top in sorted({name.split(".")[0] for name in PROVIDERS}):
+        spec = importlib.util.find_spec(top)
+        if spec is not None and spec.origin:
+            roots.append(Path(spec.origin).resolve().parent)
     for root in roots:
         for f in sorted(p for p in root.rglob("*") if p.suffix in (".py", ".toml", ".html")
                         and "__pycache__" not in p.parts):
