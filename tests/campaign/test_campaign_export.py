@@ -5,7 +5,6 @@ import importlib.util
 from pathlib import Path
 
 import tomli_w
-
 from airwake.campaign import load_campaign, run_campaign
 from airwake.campaign.store import Store
 from airwake.record.export import export_recording

@@ -1,6 +1,7 @@
 """`airwake campaign --scheduler` against a `dask scheduler` and a `dask worker` started
-here (one flight: estimate with the shipped model, map, report, merge), and the index page in a real browser: the flight's map
-and report and the merged map open with all their figures."""
+here (one flight through every step: calibrate, estimate, map, report, merge), and the
+index page in a real browser: the flight's map and report and the merged map open with
+all their figures."""
 
 import json
 import subprocess
@@ -49,7 +50,7 @@ def test_campaign_runs_on_a_scheduler_and_its_index_opens_in_a_browser(sim_campa
                         tmp_path / "worker.log")
         camp = write_campaign(tmp_path / "campaign.toml", sim_campaign,
                               flights=("flights/beta0_01.parquet",),
-                              steps=("estimate", "map", "report"))
+                              steps=("calibrate", "estimate", "map", "report"))
         out = tmp_path / "out"
         done = subprocess.run(
             [sys.executable, "-m", "airwake.cli", "campaign", str(camp), "--scheduler",
@@ -57,7 +58,7 @@ def test_campaign_runs_on_a_scheduler_and_its_index_opens_in_a_browser(sim_campa
             timeout=600)
         assert done.returncode == 0, done.stderr[-3000:]
         report = json.loads(done.stdout)
-        assert report["ran"] == report["tasks"] == 4  # estimate, map, report, merge
+        assert report["ran"] == report["tasks"] == 5  # calibrate, estimate, map, report, merge
         assert report["failed"] == []
         # the dashboard whose address the command printed serves the scheduler's page
         assert report["dashboard"] and report["dashboard"] in done.stderr
