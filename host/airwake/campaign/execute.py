@@ -50,8 +50,10 @@ def _dask_failure(task, future) -> dict:
     """The record of a task Dask itself gave up on (a worker it killed, a lost input)."""
     import traceback
 
-    exc = future.exception()
-    tb = future.traceback()
+    try:
+        exc, tb = future.exception(), future.traceback()
+    except Exception as err:  # noqa: BLE001 — cancelled: the scheduler dropped it
+        exc, tb = err, None
     text = "".join(traceback.format_exception(type(exc), exc, tb)) if tb else repr(exc)
     return base_record(task, "failed", error=f"{type(exc).__name__}: {exc}", traceback=text,
                        dask=True)
