@@ -91,8 +91,10 @@ def register(subparsers) -> None:
     lst.set_defaults(func=_scenarios)
 
     from hil_sim.boards.commands import register_run  # `sim run` (the SIL layer)
+    from hil_sim.campaign.commands import register_campaign  # `sim campaign`
 
     register_run(sub)
+    register_campaign(sub)
 
 
 def _table_path(path):

@@ -64,3 +64,10 @@ def truth_world_flight(tmp_path_factory):
         return _once(tmp_path_factory, name, lambda p: _sim(scenario, seed, duration_s, p))
 
     return get
+
+
+@pytest.fixture(scope="session")
+def shared_path(tmp_path_factory):
+    """Factory: (name, make) -> the file or directory `name`, made by make(path) exactly
+    once across the xdist workers."""
+    return lambda name, make: _once(tmp_path_factory, name, make)

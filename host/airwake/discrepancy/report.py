@@ -286,8 +286,10 @@ def _img(figs, key, alt) -> str:
 
 
 def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=True,
-                 wind=None) -> dict:
-    """Run the workflow and write DIR/index.html + figures (module docstring)."""
+                 wind=None, sindy: bool = True) -> dict:
+    """Run the workflow and write DIR/index.html + figures (module docstring). `sindy`:
+    the diagnosis's sparse regression for effects outside the catalogue (the slowest
+    part; off in bulk runs that only want the ranked catalogue)."""
     from airwake.discrepancy import where
     from airwake.discrepancy.add import add_effect
     from airwake.discrepancy.compare import analyse, summary
@@ -305,7 +307,7 @@ def write_report(flight, model, out_dir, *, settings=None, after=None, quiet=Tru
     fl, wind_in = on_flight(wind, flight, settings)
     an = analyse(base, fl, settings, free_sim=settings.free_sim_windows > 0, wind=wind_in)
     bd = where.breakdown(an)
-    diag = diagnose(base, an.flight, settings, analysis=an,
+    diag = diagnose(base, an.flight, settings, analysis=an, sindy=sindy,
                     model_calibrated=spec_calibration(model) is not None)
     verdict = diag.verdict()
     after_model, added, after_note = None, None, ""

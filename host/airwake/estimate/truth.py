@@ -11,6 +11,8 @@ wind field and ship of a `hil_sim` flight from its metadata.
 from __future__ import annotations
 
 import importlib
+import json
+from functools import lru_cache
 
 from airwake.estimate.errors import WindEstimationError
 
@@ -20,7 +22,15 @@ PROVIDERS = ("hil_sim.world.truth_field",)
 def truth_field(flight_metadata: dict):
     """An object with `relative_flow(t_s, pos_m, euler_rad, frame) -> (N, 6)` and
     `mean_flow_ned(pos_ned_m) -> (N, 3)` (the time-averaged field, for steady-state maps)
-    for a simulated flight; WindEstimationError when no provider knows the flight."""
+    for a simulated flight; WindEstimationError when no provider knows the flight.
+    Rebuilding a field synthesises its turbulence (~1 s): the last few are kept, so the
+    scores of one flight's map, page and cells build it once."""
+    return _truth_field(json.dumps(flight_metadata, sort_keys=True, default=str))
+
+
+@lru_cache(maxsize=4)
+def _truth_field(metadata_json: str):
+    flight_metadata = json.loads(metadata_json)
     reasons = []
     for name in PROVIDERS:
         try:

@@ -184,6 +184,29 @@ def read_flight_table(path) -> tuple[pd.DataFrame, dict]:
     return df, metadata
 
 
+def read_flight_metadata(path) -> dict:
+    """The metadata of a Parquet or CSV flight table without reading its rows (the Parquet
+    footer, the CSV's first line)."""
+    p = Path(path)
+    if not p.is_file():
+        raise FlightTableError(f"flight table {p} not found")
+    ext = p.suffix.lower()
+    try:
+        if ext in (".parquet", ".pq"):
+            import pyarrow.parquet as pq
+
+            raw = (pq.read_schema(p).metadata or {}).get(METADATA_KEY.encode())
+            return json.loads(raw.decode()) if raw else {}
+        if ext == ".csv":
+            with p.open() as fh:
+                first = fh.readline()
+            return json.loads(first[len(_CSV_META):]) if first.startswith(_CSV_META) else {}
+    except Exception as exc:  # noqa: BLE001 — a corrupt file is a user error, say which
+        raise FlightTableError(f"{p}: cannot read: {type(exc).__name__}: {exc}") from None
+    raise FlightTableError(
+        f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv")
+
+
 def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS) -> FlightTable:
     """Load and validate a Parquet or CSV flight table."""
     df, metadata = read_flight_table(path)
