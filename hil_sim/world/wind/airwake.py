@@ -36,6 +36,11 @@ downstream.
 In NED: v = v_ship(t) + R_ship(t) w_ship (the wake moves and tilts with the ship).
 Simplifications (documented, not hidden): no lateral (n) mean velocity, no side-edge
 vortices for oblique wind, the wake rotated rigidly with beta.
+
+Evaluation: compiled (numba), one point at a time — the ship's pose once per distinct
+time, the wake coordinates, the five-point stencil of psi, the box — as the
+blade-element truth samples it on its body grid every few milliseconds. The numpy
+version it replaced is kept as the tests' reference (tests/hil_sim/wind_reference.py).
 """
 
 from __future__ import annotations
@@ -414,7 +419,7 @@ def _velocity_rows(t, pos, pose_index, rot, origin, vel, unsteady, turbulence, p
                                      + rot[k, j, 2] * wz)
 
 
-@numba.njit(cache=True, error_model="numpy", fastmath=inc.FAST)
+@numba.njit(cache=True, error_model="numpy")
 def _runs(t):
     """(times (K,), index (N,)): one entry per run of equal consecutive times."""
     index = np.empty(t.shape[0], dtype=np.int64)

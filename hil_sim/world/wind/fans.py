@@ -20,6 +20,9 @@ the source, model error 3-11 % of it, Fig 3.14-3.15).
 Turbulence: each jet carries the frozen box advected along its own axis at
 `convection_fraction * U0`, with sigma = TI U_c on a profile wider than the jet;
 plus a small ambient sigma everywhere (a slowly drifting sample of the same box).
+
+Evaluation: compiled (numba), one point at a time; the numpy version it replaced is the
+tests' reference (tests/hil_sim/wind_reference.py).
 """
 
 from __future__ import annotations
