@@ -1,6 +1,7 @@
 """The wind fields' numpy implementation as it stood before they were compiled (commit
-402bb0c: hil_sim/world/{turbulence,ship}.py, hil_sim/world/wind/{airwake,fans,simple}.py),
-kept frozen as the oracle of tests/hil_sim/test_wind_compiled.py.
+402bb0c: hil_sim/world/turbulence.py, hil_sim/world/wind/{airwake,fans,simple}.py, and
+Ship.pose from the ship's numpy motion), kept frozen as the oracle of
+tests/hil_sim/test_wind_compiled.py.
 
 The compiled kernels must give these values to rounding (the difference quotients of
 the airwake's stream function amplify an ulp of psi to ~1e-11 m/s). The functions read
@@ -46,28 +47,13 @@ def sample(box, pos_m):
     return (values * weights.reshape(n, 8, 1)).sum(axis=1)
 
 
-# -- ship.py: Ship.pose ----------------------------------------------------------------
+# -- ship.py: Ship.pose (from the numpy motion the other Ship methods still use) -------
 
 
 def ship_pose(ship, t):
-    c = ship.config
-    e = np.zeros((t.size, 3))
-    for i, axis in enumerate(("roll", "pitch", "yaw")):
-        amp = np.radians(getattr(c, f"{axis}_amplitude_deg"))
-        w = 2 * np.pi / getattr(c, f"{axis}_period_s")
-        ph = getattr(c, f"{axis}_phase_rad")
-        e[:, i] = amp * np.sin(w * t + ph)
-    e[:, 2] += np.radians(c.heading_deg)
-    rot = euler_to_dcm(e)
-    heading = np.radians(c.heading_deg)
-    course = np.array([np.cos(heading), np.sin(heading), 0.0])
-    w = 2 * np.pi / c.heave_period_s
-    arg = w * t + c.heave_phase_rad
-    pos = ship._rc0 + np.outer(t, c.speed_m_s * course)
-    pos[:, 2] -= c.heave_amplitude_m * np.sin(arg)
-    vel = np.broadcast_to(c.speed_m_s * course, (t.size, 3)).copy()
-    vel[:, 2] -= c.heave_amplitude_m * w * np.cos(arg)
-    return rot, pos - rot @ np.asarray(c.rotation_centre_m, dtype=float), vel
+    rot = euler_to_dcm(ship._sines(t)[0])
+    pos, vel, _ = ship._centre(t)
+    return rot, pos - rot @ ship._rc, vel
 
 
 # -- wind/airwake.py ---------------------------------------------------------------------
