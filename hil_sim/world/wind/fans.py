@@ -128,6 +128,13 @@ def _jet(p: FanParams, origin: np.ndarray, axis: np.ndarray, px: float, py: floa
 
 
 @numba.njit(cache=True, error_model="numpy")
+def _jet_rows(p, origin, axis, pos, out):
+    for i in range(pos.shape[0]):
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = _jet(
+            p, origin, axis, pos[i, 0], pos[i, 1], pos[i, 2])
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _velocity_rows(t, pos, turbulence, p, fans, frames, offsets, box, out):
     """Both jets and their turbulence, plus the ambient part. fans (2, 2, 3): origin
     and axis per fan; frames (2, 3, 3): the box axes (rows) per jet in NED; offsets
@@ -191,9 +198,7 @@ class FansIndoor(WindField):
         """Mean velocity (N, 3), centreline speed (N,) and xi (N,) of one jet, faded."""
         pos = np.ascontiguousarray(pos, dtype=float)
         out = np.empty((pos.shape[0], 5))
-        origin, axis = self._fan_rows[fan]
-        for i in range(pos.shape[0]):
-            out[i] = _jet(self._params, origin, axis, *pos[i])
+        _jet_rows(self._params, self._fan_rows[fan, 0], self._fan_rows[fan, 1], pos, out)
         return out[:, :3], out[:, 3], out[:, 4]
 
     def _velocity(self, t, pos, unsteady, turbulence):
