@@ -20,6 +20,14 @@ each after a warm-up that loads the compiled model kernels:
   sample, 2000 particles) on the same flight, on the front end at 30 Hz;
   `apf_realtime_factor_cpu` per CPU second; `apf_peak_rss_mb` the child's peak memory
   during the run (VmHWM after a reset); `apf_error_std_*`.
+
+And what the truth world pays for its wind, per field type (`still_air`, `uniform`,
+`fans_indoor`, `ship_airwake` at their defaults, the airwake at 15 deg):
+`wind_field_us_per_point_<type>`, CPU microseconds per point of a `velocity_ned` call
+shaped like the blade-element truth's (21 snapshots 5 ms apart of 112 points around a
+moving hub: 2352 points), and `wind_local_us_per_point_<type>` of a `local_wind` call of
+20 hubs (75 points each); the best of repeated calls after a warm-up (compiled kernels
+loaded), one thread.
 """
 
 from __future__ import annotations
@@ -133,7 +141,64 @@ def _child(flight: str, spec: str, particles: int) -> None:
         "apf_mean_ess": float(apf.df["ess"].mean())}))
 
 
+FIELDS = {
+    "still_air": {"type": "still_air"},
+    "uniform": {"type": "uniform", "velocity_ned_m_s": [3.0, 1.0, 0.0],
+                "turbulence_intensity": 0.1},
+    "fans_indoor": {"type": "fans_indoor"},
+    "ship_airwake": {"type": "ship_airwake", "relative_wind_heading_deg": 15.0},
+}
+# Where each field is flown: between the fans; over the flight deck behind the hangar.
+HUB_NED_M = {"fans_indoor": (3.5, 0.0, -2.0), "ship_airwake": (-4.0, 0.5, -4.0)}
+
+
+def field_costs(quick: bool) -> dict:
+    """CPU microseconds per point of each field type (module doc)."""
+    import time
+
+    import numpy as np
+
+    from hil_sim.world.ship import Ship
+    from hil_sim.world.wind import build_wind_field
+
+    repeats = 5 if quick else 30
+    rng = np.random.default_rng(0)
+    snapshots, grid = 21, rng.uniform(-0.8, 0.8, (112, 3))
+    t_grid = np.repeat(10.0 + 0.005 * np.arange(snapshots), grid.shape[0])
+    drift = np.outer(t_grid - 10.0, [2.0, 0.5, 0.0])  # the hub moves through the grid
+    hubs = rng.uniform(-1.0, 1.0, (20, 3))
+    t_hubs = 10.0 + 0.01 * np.arange(hubs.shape[0])
+    quats = np.tile([1.0, 0.0, 0.0, 0.0], (hubs.shape[0], 1))
+
+    def best(call) -> float:
+        call()  # warm-up: loads the compiled kernels
+        out = np.inf
+        for _ in range(repeats):
+            c0 = time.process_time()
+            call()
+            out = min(out, time.process_time() - c0)
+        return out
+
+    out = {}
+    for kind, config in FIELDS.items():
+        ship = Ship()
+        field = build_wind_field(config, rng=np.random.default_rng(1), ship=ship)
+        hub = np.array(HUB_NED_M.get(kind, (0.0, 0.0, -3.0)))
+        if kind == "ship_airwake":  # the hub rides with the ship
+            hub_at = ship.ship_to_ned(t_grid, np.broadcast_to(hub, t_grid.shape + (3,)))
+            hubs_at = ship.ship_to_ned(t_hubs, hub + hubs)
+        else:
+            hub_at, hubs_at = np.broadcast_to(hub, t_grid.shape + (3,)), hub + hubs
+        points = hub_at + np.tile(grid, (snapshots, 1)) + drift
+        dt = best(lambda f=field, p=points: f.velocity_ned(t_grid, p))
+        out[f"wind_field_us_per_point_{kind}"] = round(dt / t_grid.size * 1e6, 4)
+        dt = best(lambda f=field, p=hubs_at: f.local_wind(t_hubs, p, quats))
+        out[f"wind_local_us_per_point_{kind}"] = round(dt / (hubs.shape[0] * 75) * 1e6, 4)
+    return out
+
+
 def run(quick: bool = False) -> dict:
+    fields = field_costs(quick)
     flight, spec, made_s = prepare(quick)
     particles = 2000
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
@@ -157,6 +222,7 @@ def run(quick: bool = False) -> dict:
         "apf_particles": particles,
         "apf_mean_ess": res["apf_mean_ess"],
         "wind_bench_prepare_s": made_s,
+        **fields,
     }
     for name, c in res["score"]["components"].items():
         short = name.replace("wind_", "").split("_")[0]

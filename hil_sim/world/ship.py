@@ -18,8 +18,11 @@ measured from the bow, positive to starboard (beta = 0: head wind).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
+import numba
 import numpy as np
 
 from hil_sim.sensors.config import check_finite, check_nonnegative, check_positive, check_range
@@ -27,7 +30,6 @@ from hil_sim.world.kinematics import (
     GRAVITY_M_S2,
     Trajectory,
     euler_rates_to_body_rates,
-    euler_to_dcm,
     euler_to_quat,
     quat_to_dcm,
 )
@@ -81,6 +83,55 @@ class ShipConfig:
             check_positive(name, getattr(self, name))
 
 
+class _Motion(NamedTuple):
+    """The ship's motion constants, as the compiled pose reads them: per axis the
+    amplitude (rad), angular frequency (rad/s) and phase of roll, pitch, yaw; the
+    heading; the course velocity; the heave; the rotation centre at t = 0 (NED) and in
+    ship axes."""
+
+    roll: tuple[float, float, float]
+    pitch: tuple[float, float, float]
+    yaw: tuple[float, float, float]
+    heading: float
+    vel_n: float
+    vel_e: float
+    heave: tuple[float, float, float]
+    rc0: tuple[float, float, float]
+    rc: tuple[float, float, float]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _pose_rows(t, m, rot, origin, vel):
+    """`Ship.pose` at times t (N,): `_sines`, `euler_to_dcm` and `_centre`, one time at
+    a time."""
+    for i in range(t.shape[0]):
+        roll = m.roll[0] * math.sin(m.roll[1] * t[i] + m.roll[2])
+        pitch = m.pitch[0] * math.sin(m.pitch[1] * t[i] + m.pitch[2])
+        yaw = m.yaw[0] * math.sin(m.yaw[1] * t[i] + m.yaw[2]) + m.heading
+        cr, sr = math.cos(roll), math.sin(roll)
+        cp, sp = math.cos(pitch), math.sin(pitch)
+        cy, sy = math.cos(yaw), math.sin(yaw)
+        rot[i, 0, 0] = cp * cy
+        rot[i, 0, 1] = sr * sp * cy - cr * sy
+        rot[i, 0, 2] = cr * sp * cy + sr * sy
+        rot[i, 1, 0] = cp * sy
+        rot[i, 1, 1] = sr * sp * sy + cr * cy
+        rot[i, 1, 2] = cr * sp * sy - sr * cy
+        rot[i, 2, 0] = -sp
+        rot[i, 2, 1] = sr * cp
+        rot[i, 2, 2] = cr * cp
+        amp, w, ph = m.heave
+        arg = w * t[i] + ph
+        centre = (m.rc0[0] + t[i] * m.vel_n, m.rc0[1] + t[i] * m.vel_e,
+                  m.rc0[2] - amp * math.sin(arg))
+        for j in range(3):
+            origin[i, j] = centre[j] - (rot[i, j, 0] * m.rc[0] + rot[i, j, 1] * m.rc[1]
+                                        + rot[i, j, 2] * m.rc[2])
+        vel[i, 0] = m.vel_n
+        vel[i, 1] = m.vel_e
+        vel[i, 2] = -amp * w * math.cos(arg)
+
+
 class Ship:
     """Ship pose and transforms at any times (vectorised, analytic)."""
 
@@ -93,6 +144,16 @@ class Ship:
         level = quat_to_dcm(euler_to_quat(np.array([0.0, 0.0, self._heading])))
         start = np.array([c.start_ne_m[0], c.start_ne_m[1], -c.deck_height_m])
         self._rc0 = start + level @ self._rc
+        axes = [tuple(float(v) for v in (np.radians(getattr(c, f"{a}_amplitude_deg")),
+                                           2 * np.pi / getattr(c, f"{a}_period_s"),
+                                           getattr(c, f"{a}_phase_rad")))
+                for a in ("roll", "pitch", "yaw")]
+        course = c.speed_m_s * self._course
+        self._motion = _Motion(
+            *axes, float(self._heading), float(course[0]), float(course[1]),
+            (float(c.heave_amplitude_m), float(2 * np.pi / c.heave_period_s),
+             float(c.heave_phase_rad)),
+            tuple(float(v) for v in self._rc0), tuple(float(v) for v in self._rc))
 
     # -- attitude ------------------------------------------------------------
 
@@ -142,16 +203,14 @@ class Ship:
     def pose(self, t_s: np.ndarray | float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(rotation ship -> NED (N, 3, 3), origin NED (N, 3), translational velocity
         (N, 3)) at times (N,): everything a wind field needs, computed once."""
-        t = np.atleast_1d(np.asarray(t_s, dtype=float))
-        rot = euler_to_dcm(self._sines(t)[0])
-        pos, vel, _ = self._centre(t)
-        return rot, pos - rot @ self._rc, vel
+        t = np.ascontiguousarray(np.atleast_1d(np.asarray(t_s, dtype=float)).ravel())
+        rot, origin, vel = np.empty((t.size, 3, 3)), np.empty((t.size, 3)), np.empty((t.size, 3))
+        _pose_rows(t, self._motion, rot, origin, vel)
+        return rot, origin, vel
 
     def origin_ned_m(self, t_s: np.ndarray | float) -> np.ndarray:
         """(N, 3) position of the ship-frame origin (the step, deck level)."""
-        t = np.atleast_1d(np.asarray(t_s, dtype=float))
-        pos, _, _ = self._centre(t)
-        return pos - euler_to_dcm(self.euler_rad(t)) @ self._rc
+        return self.pose(t_s)[1]
 
     def translational_velocity_ned(self, t_s: np.ndarray | float) -> np.ndarray:
         """(N, 3) velocity of the rotation centre (course x speed + heave)."""
@@ -161,23 +220,21 @@ class Ship:
 
     def ship_to_ned(self, t_s: np.ndarray | float, p_ship_m: np.ndarray) -> np.ndarray:
         """Ship-frame points (N, 3) at times (N,) -> NED (N, 3)."""
-        t = np.broadcast_to(np.asarray(t_s, dtype=float), np.shape(p_ship_m)[:-1])
-        r = euler_to_dcm(self.euler_rad(t.ravel())).reshape(t.shape + (3, 3))
-        return self.origin_ned_m(t.ravel()).reshape(t.shape + (3,)) + np.einsum(
-            "...ij,...j->...i", r, p_ship_m)
+        p = np.asarray(p_ship_m, dtype=float)
+        t = np.broadcast_to(np.asarray(t_s, dtype=float), p.shape[:-1])
+        r, origin, _ = self.pose(t.ravel())
+        return (origin + np.einsum("nij,nj->ni", r, p.reshape(-1, 3))).reshape(p.shape)
 
     def ned_to_ship(self, t_s: np.ndarray | float, p_ned_m: np.ndarray) -> np.ndarray:
         """NED points (N, 3) at times (N,) -> ship frame (N, 3)."""
         p = np.asarray(p_ned_m, dtype=float)
         t = np.broadcast_to(np.asarray(t_s, dtype=float), p.shape[:-1])
-        flat_t = t.ravel()
-        r = euler_to_dcm(self.euler_rad(flat_t))
-        rel = p.reshape(-1, 3) - self.origin_ned_m(flat_t)
-        return np.einsum("nji,nj->ni", r, rel).reshape(p.shape)
+        r, origin, _ = self.pose(t.ravel())
+        return np.einsum("nji,nj->ni", r, p.reshape(-1, 3) - origin).reshape(p.shape)
 
     def rotation_ship_to_ned(self, t_s: np.ndarray | float) -> np.ndarray:
         """(N, 3, 3) rotation matrices ship -> NED."""
-        return euler_to_dcm(self.euler_rad(t_s))
+        return self.pose(t_s)[0]
 
     # -- kinematics for sensors ----------------------------------------------
 

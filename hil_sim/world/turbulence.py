@@ -20,13 +20,18 @@ stretch of box again after one box length: over one box length of advection the
 lateral offset moves by 0.618 of `lateral_drift_m`, never repeating exactly.
 
 Sampling is trilinear interpolation on the periodic grid; the grid spacing sets the
-smallest eddies (default 0.25 m, a fifth of the rotor diameter).
+smallest eddies (default 0.25 m, a fifth of the rotor diameter). It is compiled
+(numba) one point at a time, `sample_point` / `advected_point`, so the wind fields'
+own kernels call it inside their loops.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
+import numba
 import numpy as np
 
 from hil_sim.sensors.config import check_choice, check_positive
@@ -66,6 +71,21 @@ class TurbulenceConfig:
                 f"grid_spacing_m = {self.grid_spacing_m!r}: must be <= length_scale_m / 2")
 
 
+class TurbulenceGrid(NamedTuple):
+    """A box for the compiled samplers: values (cells, 3) float32 in C order over
+    (nx, ny, nz), the cell counts, the spacing (m) and the lateral drift per metre of
+    advection."""
+
+    flat: np.ndarray
+    nx: int
+    ny: int
+    nz: int
+    dx: float
+    dy: float
+    dz: float
+    drift: float
+
+
 class FrozenTurbulence:
     """A unit-variance periodic turbulence box; `sample` interpolates it."""
 
@@ -79,8 +99,10 @@ class FrozenTurbulence:
         field = _synthesise(shape, self.spacing, config, rng)
         # (nx*ny*nz, 3) float32: one gather fetches the three components.
         self._flat = np.ascontiguousarray(field.reshape(-1, 3), dtype=np.float32)
-        self._strides = np.array([shape[1] * shape[2], shape[2], 1], dtype=np.int64)
-        self._n = np.array(shape, dtype=np.int64)
+        drift = GOLDEN * config.lateral_drift_m / self.size_m[0]
+        # The box as the compiled samplers take it (also from other fields' kernels).
+        self.grid = TurbulenceGrid(self._flat, *shape, *(float(d) for d in self.spacing),
+                                   float(drift))
 
     def field(self) -> np.ndarray:
         """The box values, (nx, ny, nz, 3)."""
@@ -92,32 +114,80 @@ class FrozenTurbulence:
         `pos_m` (N, 3) are coordinates in the field's own axes (x along the
         convection), `t_s` (N,). Returns (N, 3) unit-variance fluctuations.
         """
-        p = np.array(pos_m, dtype=float, copy=True)
-        travel = speed_m_s * np.asarray(t_s, dtype=float)
-        p[:, 0] -= travel
-        # Slow lateral drift of the sampling line: no exact repetition after a box.
-        p[:, 1] += travel * (GOLDEN * self.config.lateral_drift_m / self.size_m[0])
-        return self.sample(p)
+        p = np.ascontiguousarray(pos_m, dtype=float)
+        t = np.ascontiguousarray(np.broadcast_to(np.asarray(t_s, dtype=float), p.shape[:1]))
+        out = np.empty((p.shape[0], 3))
+        advected_rows(self.grid, p, t, float(speed_m_s), out)
+        return out
 
     def sample(self, pos_m: np.ndarray) -> np.ndarray:
         """Trilinear interpolation at (N, 3) positions (periodic), -> (N, 3)."""
-        g = np.asarray(pos_m, dtype=float) / self.spacing
-        i0 = np.floor(g)
-        f = g - i0
-        i0 = i0.astype(np.int64) % self._n
-        n = g.shape[0]
-        # Per axis: the two neighbouring flat-index offsets and weights, (N, 3, 2);
-        # their outer products over the axes give the 8 corners in one gather.
-        idx = np.empty((n, 3, 2), dtype=np.int64)
-        idx[:, :, 0] = i0 * self._strides
-        idx[:, :, 1] = ((i0 + 1) % self._n) * self._strides
-        wts = np.empty((n, 3, 2))
-        wts[:, :, 0] = 1.0 - f
-        wts[:, :, 1] = f
-        flat = idx[:, 0, :, None, None] + idx[:, 1, None, :, None] + idx[:, 2, None, None, :]
-        weights = wts[:, 0, :, None, None] * wts[:, 1, None, :, None] * wts[:, 2, None, None, :]
-        values = self._flat[flat.reshape(n, 8)]  # (N, 8, 3)
-        return (values * weights.reshape(n, 8, 1)).sum(axis=1)
+        p = np.ascontiguousarray(pos_m, dtype=float)
+        out = np.empty((p.shape[0], 3))
+        sample_rows(self.grid, p, out)
+        return out
+
+
+# Trilinear interpolation on the periodic grid, one point at a time: g = p / spacing,
+# corners i0 = floor(g) mod n and i0 + 1 mod n, weights 1 - f and f (f = g - floor(g))
+# per axis; the value is the weighted sum of the 8 corners.
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _corners(g: float, n: int) -> tuple[int, int, float]:
+    """One axis: the two neighbouring indices and the weight of the upper one."""
+    fl = math.floor(g)
+    i0 = int(fl)
+    if i0 < 0 or i0 >= n:  # (an integer division is slow: only when outside the box)
+        i0 %= n
+    i1 = i0 + 1
+    return i0, 0 if i1 == n else i1, g - fl
+
+
+@numba.njit(cache=True, error_model="numpy")
+def sample_point(box: TurbulenceGrid, x: float, y: float, z: float
+                 ) -> tuple[float, float, float]:
+    """The box's (u, v, w) at one point (m, box axes), periodic trilinear."""
+    ix0, ix1, fx = _corners(x / box.dx, box.nx)
+    iy0, iy1, fy = _corners(y / box.dy, box.ny)
+    iz0, iz1, fz = _corners(z / box.dz, box.nz)
+    sx = box.ny * box.nz
+    u = v = w = 0.0
+    for a in range(2):
+        ox = (ix0 if a == 0 else ix1) * sx
+        wx = 1.0 - fx if a == 0 else fx
+        for b in range(2):
+            oy = (iy0 if b == 0 else iy1) * box.nz
+            wxy = wx * (1.0 - fy if b == 0 else fy)
+            for c in range(2):
+                k = ox + oy + (iz0 if c == 0 else iz1)
+                wt = wxy * (1.0 - fz if c == 0 else fz)
+                u += box.flat[k, 0] * wt
+                v += box.flat[k, 1] * wt
+                w += box.flat[k, 2] * wt
+    return u, v, w
+
+
+@numba.njit(cache=True, error_model="numpy")
+def advected_point(box: TurbulenceGrid, x: float, y: float, z: float, t: float,
+                   speed: float) -> tuple[float, float, float]:
+    """Taylor's frozen turbulence: the box at (x - c t, y + drift c t, z)."""
+    travel = speed * t
+    return sample_point(box, x - travel, y + travel * box.drift, z)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def sample_rows(box: TurbulenceGrid, pos: np.ndarray, out: np.ndarray) -> None:
+    for i in range(pos.shape[0]):
+        out[i, 0], out[i, 1], out[i, 2] = sample_point(box, pos[i, 0], pos[i, 1], pos[i, 2])
+
+
+@numba.njit(cache=True, error_model="numpy")
+def advected_rows(box: TurbulenceGrid, pos: np.ndarray, t: np.ndarray, speed: float,
+                  out: np.ndarray) -> None:
+    for i in range(pos.shape[0]):
+        out[i, 0], out[i, 1], out[i, 2] = advected_point(box, pos[i, 0], pos[i, 1],
+                                                         pos[i, 2], t[i], speed)
 
 
 def energy_spectrum(k: np.ndarray, config: TurbulenceConfig) -> np.ndarray:

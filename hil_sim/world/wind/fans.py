@@ -20,16 +20,26 @@ the source, model error 3-11 % of it, Fig 3.14-3.15).
 Turbulence: each jet carries the frozen box advected along its own axis at
 `convection_fraction * U0`, with sigma = TI U_c on a profile wider than the jet;
 plus a small ambient sigma everywhere (a slowly drifting sample of the same box).
+
+Evaluation: compiled (numba), one point at a time; the numpy version it replaced is the
+tests' reference (tests/hil_sim/wind_reference.py).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
+import numba
 import numpy as np
 
 from hil_sim.sensors.config import check_finite, check_nonnegative, check_positive, check_range
-from hil_sim.world.turbulence import FrozenTurbulence, TurbulenceConfig
+from hil_sim.world.turbulence import (
+    FrozenTurbulence,
+    TurbulenceConfig,
+    advected_point,
+)
 from hil_sim.world.wind.base import WindField
 from hil_sim.world.wind.simple import convection_frame
 
@@ -71,6 +81,92 @@ class FansIndoorConfig:
         check_positive("convection_fraction", self.convection_fraction)
 
 
+class FanParams(NamedTuple):
+    """What the compiled jets read (module doc)."""
+
+    exit_speed: float  # U0
+    diameter: float  # D
+    x0: float  # virtual origin
+    spreading_rate: float  # S
+    swirl_fraction: float
+    turbulence_intensity: float
+    ambient_sigma: float
+    convection_speed: float  # convection_fraction U0
+
+
+_LN2 = math.log(2.0)
+_AMBIENT_DRIFT_M_S = 0.3  # the ambient part's box drifts at this speed
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _jet(p: FanParams, origin: np.ndarray, axis: np.ndarray, px: float, py: float,
+         pz: float) -> tuple[float, float, float, float, float]:
+    """One jet at a point: the faded mean velocity (3), the faded centreline speed and
+    xi (module doc)."""
+    rx, ry, rz = px - origin[0], py - origin[1], pz - origin[2]
+    x = rx * axis[0] + ry * axis[1] + rz * axis[2]
+    qx, qy, qz = rx - x * axis[0], ry - x * axis[1], rz - x * axis[2]  # radial vector
+    r = math.sqrt(qx * qx + qy * qy + qz * qz)
+    big_x = max(x + p.x0, 0.5 * p.x0)
+    # Full strength from the fan plane on, gone half a diameter behind the fan.
+    fade = 0.5 * (1.0 + math.tanh((x + 0.25 * p.diameter) / (0.08 * p.diameter)))
+    u_c = p.exit_speed * p.x0 / big_x
+    r_half = p.spreading_rate * big_x
+    xi = _LN2 * (r / r_half) ** 2
+    e = math.exp(-xi)
+    frac = -math.expm1(-xi) / xi if xi > 1e-9 else 1.0 - xi / 2  # (1 - e^-xi) / xi
+    u_x = u_c * e
+    u_r_over_r = -(u_c / (2.0 * big_x)) * (frac - 2.0 * e)
+    swirl = (p.swirl_fraction * p.exit_speed * (p.x0 / big_x) ** 2 / r_half) * e
+    # u_r r_hat = (u_r / r) radial; u_theta theta_hat = (u_theta / r) (axis x radial)
+    cx = axis[1] * qz - axis[2] * qy
+    cy = axis[2] * qx - axis[0] * qz
+    cz = axis[0] * qy - axis[1] * qx
+    return ((u_x * axis[0] + u_r_over_r * qx + swirl * cx) * fade,
+            (u_x * axis[1] + u_r_over_r * qy + swirl * cy) * fade,
+            (u_x * axis[2] + u_r_over_r * qz + swirl * cz) * fade, u_c * fade, xi)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _jet_rows(p, origin, axis, pos, out):
+    for i in range(pos.shape[0]):
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = _jet(
+            p, origin, axis, pos[i, 0], pos[i, 1], pos[i, 2])
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _velocity_rows(t, pos, turbulence, p, fans, frames, offsets, box, out):
+    """Both jets and their turbulence, plus the ambient part. fans (2, 2, 3): origin
+    and axis per fan; frames (2, 3, 3): the box axes (rows) per jet in NED; offsets
+    (3, 3): where each jet and the ambient part sample the box."""
+    for i in range(t.shape[0]):
+        px, py, pz = pos[i, 0], pos[i, 1], pos[i, 2]
+        vx = vy = vz = 0.0
+        for f in range(2):
+            ux, uy, uz, u_c, xi = _jet(p, fans[f, 0], fans[f, 1], px, py, pz)
+            vx += ux
+            vy += uy
+            vz += uz
+            if turbulence and p.turbulence_intensity > 0:
+                a = frames[f]
+                rx, ry, rz = px - fans[f, 0, 0], py - fans[f, 0, 1], pz - fans[f, 0, 2]
+                lx = rx * a[0, 0] + ry * a[0, 1] + rz * a[0, 2] + offsets[f, 0]
+                ly = rx * a[1, 0] + ry * a[1, 1] + rz * a[1, 2] + offsets[f, 1]
+                lz = rx * a[2, 0] + ry * a[2, 1] + rz * a[2, 2] + offsets[f, 2]
+                fx, fy, fz = advected_point(box, lx, ly, lz, t[i], p.convection_speed)
+                sigma = p.turbulence_intensity * u_c * math.exp(-xi / 2.25)
+                vx += sigma * (fx * a[0, 0] + fy * a[1, 0] + fz * a[2, 0])
+                vy += sigma * (fx * a[0, 1] + fy * a[1, 1] + fz * a[2, 1])
+                vz += sigma * (fx * a[0, 2] + fy * a[1, 2] + fz * a[2, 2])
+        if turbulence and p.ambient_sigma > 0:
+            fx, fy, fz = advected_point(box, px + offsets[2, 0], py + offsets[2, 1],
+                                        pz + offsets[2, 2], t[i], _AMBIENT_DRIFT_M_S)
+            vx += p.ambient_sigma * fx
+            vy += p.ambient_sigma * fy
+            vz += p.ambient_sigma * fz
+        out[i, 0], out[i, 1], out[i, 2] = vx, vy, vz
+
+
 class FansIndoor(WindField):
     kind = "fans_indoor"
 
@@ -90,45 +186,23 @@ class FansIndoor(WindField):
         box = np.asarray(c.turbulence.box_m)
         self._box_offsets = (np.zeros(3), box * np.array([0.5, 0.5, 0.0]),
                              box * np.array([0.25, 0.0, 0.5]))
+        self._params = FanParams(*(float(v) for v in (
+            c.exit_speed_m_s, c.fan_diameter_m, self.x0, c.spreading_rate, c.swirl_fraction,
+            c.turbulence_intensity, c.ambient_sigma_m_s,
+            c.convection_fraction * c.exit_speed_m_s)))
+        self._fan_rows = np.array([[o, ax] for o, ax in self.fans])
+        self._frame_rows = np.array(self.frames)
+        self._offset_rows = np.array(self._box_offsets)
 
     def _jet(self, pos: np.ndarray, fan: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Mean velocity (N, 3), centreline speed (N,), xi (N,) and fade for one jet."""
-        c = self.config
-        origin, axis = self.fans[fan]
-        rel = pos - origin
-        x = rel @ axis
-        radial = rel - np.outer(x, axis)
-        r = np.linalg.norm(radial, axis=1)
-        big_x = np.maximum(x + self.x0, 0.5 * self.x0)
-        # Full strength from the fan plane on, gone half a diameter behind the fan.
-        fade = 0.5 * (1.0 + np.tanh((x + 0.25 * c.fan_diameter_m) / (0.08 * c.fan_diameter_m)))
-        u_c = c.exit_speed_m_s * self.x0 / big_x
-        r_half = c.spreading_rate * big_x
-        xi = np.log(2.0) * (r / r_half) ** 2
-        e = np.exp(-xi)
-        safe_xi = np.where(xi > 1e-9, xi, 1.0)
-        frac = np.where(xi > 1e-9, -np.expm1(-xi) / safe_xi, 1.0 - xi / 2)
-        u_x = u_c * e
-        u_r_over_r = -(u_c / (2.0 * big_x)) * (frac - 2.0 * e)
-        swirl = (c.swirl_fraction * c.exit_speed_m_s * (self.x0 / big_x) ** 2 / r_half) * e
-        # u_r r_hat = (u_r / r) radial; u_theta theta_hat = (u_theta / r) (axis x radial)
-        vel = (np.outer(u_x, axis) + u_r_over_r[:, None] * radial
-               + swirl[:, None] * np.cross(axis, radial))
-        return vel * fade[:, None], u_c * fade, xi
+        """Mean velocity (N, 3), centreline speed (N,) and xi (N,) of one jet, faded."""
+        pos = np.ascontiguousarray(pos, dtype=float)
+        out = np.empty((pos.shape[0], 5))
+        _jet_rows(self._params, self._fan_rows[fan, 0], self._fan_rows[fan, 1], pos, out)
+        return out[:, :3], out[:, 3], out[:, 4]
 
     def _velocity(self, t, pos, unsteady, turbulence):
-        c = self.config
-        out = np.zeros_like(pos)
-        for fan in (0, 1):
-            vel, u_c, xi = self._jet(pos, fan)
-            out += vel
-            if turbulence and c.turbulence_intensity > 0:
-                axes = self.frames[fan]
-                local = (pos - self.fans[fan][0]) @ axes.T + self._box_offsets[fan]
-                fluct = self._box.advected(local, t, c.convection_fraction * c.exit_speed_m_s)
-                sigma = c.turbulence_intensity * u_c * np.exp(-xi / 2.25)
-                out += sigma[:, None] * (fluct @ axes)
-        if turbulence and c.ambient_sigma_m_s > 0:
-            fluct = self._box.advected(pos + self._box_offsets[2], t, 0.3)
-            out += c.ambient_sigma_m_s * fluct
+        out = np.empty((t.shape[0], 3))
+        _velocity_rows(t, np.ascontiguousarray(pos), bool(turbulence), self._params,
+                       self._fan_rows, self._frame_rows, self._offset_rows, self._box.grid, out)
         return out
