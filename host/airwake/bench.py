@@ -26,7 +26,7 @@ from pathlib import Path
 
 import airwake
 
-_EXTRA_BENCH_MODULES = ("hil_sim.bench", "hil_sim.wind_bench")
+_EXTRA_BENCH_MODULES = ("airwake.cli_bench", "hil_sim.bench", "hil_sim.wind_bench")
 # Bench modules that live outside the Python packages, relative to the repository root.
 _REPO_BENCH_FILES = ("firmware/bench/bench.py",)
 _REPO_ROOT = Path(__file__).resolve().parents[2]

@@ -3,8 +3,10 @@
 Each area registers its sub-commands in a module named `commands` that defines
 `register(subparsers)` (e.g. `airwake/link/commands.py` adds `decode`,
 `hil_sim/commands.py` adds `sim`). Adding a command never edits this file.
-`commands` modules must import only argparse-level things at module scope: heavy
-imports (numpy, torch, scipy) go inside the handlers so `airwake --help` is fast.
+`commands` modules must import only argparse-level things at module scope, and so must
+their packages' `__init__` (`airwake.lazy`): heavy imports (numpy, torch, scipy, pandas)
+go inside the handlers so `airwake --help`, every `airwake X --help` and an argument error
+answer at once (tests/test_cli_imports.py checks which modules they load).
 
 A handler is stored with `parser.set_defaults(func=handler)`; it receives the
 parsed namespace and returns an exit status (or None for 0).
@@ -18,6 +20,7 @@ import importlib.util
 import pkgutil
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import airwake
 from airwake.errors import AirwakeError
@@ -29,7 +32,10 @@ _EXTRA_COMMAND_MODULES = ("hil_sim.commands",)
 def _command_modules() -> list[str]:
     names = []
     for info in pkgutil.iter_modules(airwake.__path__):
-        if info.ispkg and importlib.util.find_spec(f"airwake.{info.name}.commands"):
+        # listed from the folder, not `find_spec`, which would import every area's
+        # package (airwake.heli: numba) just to ask
+        if info.ispkg and any(sub.name == "commands" for sub in pkgutil.iter_modules(
+                [str(Path(info.module_finder.path) / info.name)])):
             names.append(f"airwake.{info.name}.commands")
     names.append("airwake.bench")
     for name in _EXTRA_COMMAND_MODULES:

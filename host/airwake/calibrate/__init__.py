@@ -16,13 +16,17 @@ Model-generated flights for tests and benches: `airwake.calibrate.synthetic`.
 from __future__ import annotations
 
 import os
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from airwake.calibrate.errors import CalibrationError
-from airwake.calibrate.fit import FitResult
+from airwake.lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from airwake.calibrate.fit import FitResult
 
 __all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight"]
+# numpy and the fit load on first use: `airwake --help` imports this package
+__getattr__, __dir__ = lazy_exports(__name__, {"FitResult": "airwake.calibrate.fit"})
 
 
 def load_flight(flight):
@@ -48,6 +52,8 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     front end's zero-phase low-pass of every signal (the wind estimator's, so the model is
     fitted to what the estimator will compare it with; None or 0: the raw flight). The
     seed drives the PSO (initial swarm, r1/r2, the window subset) and nothing else."""
+    import numpy as np
+
     from airwake.calibrate.envelope import flight_envelope, wind_trust
     from airwake.calibrate.params import identified_subset, select_parameters
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
@@ -115,6 +121,8 @@ def _reweight(model, pred, free, max_nfev, progress):
     subset of the windows, then each channel's scale = its residual RMS there (the
     maximum-likelihood weights when each channel's misfit variance is unknown). Returns
     the first fit's model (the start of the full fit) and the scales."""
+    import numpy as np
+
     from airwake.calibrate.lsq import fit_lsq
     from airwake.calibrate.residuals import WindowedPredictor
     from airwake.progress import Progress
@@ -137,6 +145,8 @@ def _front_end(data, model, cutoff_hz: float, channel_scale):
     fixed-Jacobian rotor step needs the full rate) and its channel scales: the raw
     white-noise scale times sqrt(2 f_c / f_s), the share of white noise the filter passes,
     unless given."""
+    import numpy as np
+
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.prefilter import prefilter
 
