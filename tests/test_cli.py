@@ -116,3 +116,30 @@ def test_help_and_usage_errors_import_no_heavy_package():
         assert r["said"] > 0, r
         assert r["heavy"] == [], f"airwake {' '.join(r['argv'])} imported {r['heavy']}"
 
+
+
+def test_a_library_warning_is_one_line_and_the_command_goes_on(monkeypatch, capsys):
+    # e.g. a flight table's implausible column the command does not read (FlightTableWarning)
+    import warnings
+
+    from airwake.record.flight_table import FlightTableWarning
+
+    real_build = build_parser
+
+    def build_with_warning_command():
+        parser = real_build()
+        sub = next(a for a in parser._actions if a.dest == "command")
+
+        def warn(_args):
+            warnings.warn(FlightTableWarning("f.csv: column 'x_m_s' has 2 value(s) ..."),
+                          stacklevel=1)
+            print("done")
+
+        sub.add_parser("warn-test").set_defaults(func=warn)
+        return parser
+
+    monkeypatch.setattr("airwake.cli.build_parser", build_with_warning_command)
+    assert main(["warn-test"]) == 0
+    out = capsys.readouterr()
+    assert out.err == "airwake warn-test: warning: f.csv: column 'x_m_s' has 2 value(s) ...\n"
+    assert out.out == "done\n"

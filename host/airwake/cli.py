@@ -19,6 +19,7 @@ import importlib
 import importlib.util
 import pkgutil
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -60,6 +61,21 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line_warnings(command: str):
+    """`warnings.showwarning` for the command: airwake's own warnings (e.g.
+    `FlightTableWarning`: an implausible column the command does not read) as one line
+    on stderr; others as Python prints them."""
+    default = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if category.__module__.startswith("airwake."):
+            print(f"airwake {command}: warning: {message}", file=file or sys.stderr)
+        else:
+            default(message, category, filename, lineno, file, line)
+
+    return show
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -69,7 +85,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         (getattr(args, "_group_parser", None) or parser).print_help(sys.stderr)
         return 2
     try:
-        status = func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings(args.command)
+            status = func(args)
     except AirwakeError as exc:
         print(f"airwake {args.command}: error: {exc}", file=sys.stderr)
         return 2

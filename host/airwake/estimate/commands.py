@@ -188,20 +188,23 @@ def register(subparsers) -> None:
 def _map_handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from airwake.estimate.airwake_map import FLIGHT_COLUMNS
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.map_plots import ShipOutline
     from airwake.estimate.map_report import make_map
+    from airwake.heli.model import WIND_NAMES
     from airwake.record.flight_table import FlightTableError, load_flight_table
 
     out = Path(args.out)
     if not out.parent.is_dir():
         raise WindEstimationError(f"cannot write {out}: directory {out.parent} does not exist")
     try:
-        wind = load_flight_table(args.wind, required=())
+        wind = load_flight_table(args.wind, required=(), reads=(
+            *WIND_NAMES, *(f"{n}_std" for n in WIND_NAMES)))
     except FlightTableError as exc:
         raise WindEstimationError(str(exc)) from None
     try:
-        flight = load_flight_table(args.flight, required=("t_s",))
+        flight = load_flight_table(args.flight, ("t_s",), FLIGHT_COLUMNS)
     except FlightTableError as exc:
         raise WindEstimationError(str(exc)) from None
     ship = ShipOutline(args.deck_length_m, args.beam_m, args.hangar_length_m,

@@ -12,6 +12,7 @@ __all__ = [
     "CONTRACT_COLUMNS",
     "FlightTable",
     "FlightTableError",
+    "FlightTableWarning",
     "load_flight_table",
     "measured_columns",
     "validate_flight_table",
