@@ -62,7 +62,7 @@ DAEMON_START_TIMEOUT_S = 60.0
 PORT_OPEN_TIMEOUT_S = 30.0
 DRAIN_TIMEOUT_S = 10.0
 WRITE_STALL_TIMEOUT_S = 20.0
-STEPPED_POLL_MS = 1.0
+STEPPED_POLL_MS = 0.0
 
 
 def sil_rngs(seed: int) -> dict[str, np.random.Generator]:
@@ -304,6 +304,8 @@ class SilRun:
             head = [sys.executable, "-m", "airwake.cli"]
         cmd = head + ["daemon", "--out", str(self.out), "--status-json",
                       str(self._tmp / "status.json"), "--quiet"]
+        if self.mode == "stepped" and {"marker", "losa"} <= set(rig.boards):
+            cmd += ["--track"]
         if self.mode == "stepped":
             # the daemon sleeps the rest of its poll period while the clock stands still
             # (the simulator waits for it to read a step): a short period keeps that wait

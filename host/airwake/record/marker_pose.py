@@ -11,8 +11,10 @@ stands at `tracker_position_ned_m`, facing `tracker_heading_deg`, tilted up by
 roll/pitch/yaw are R_NB's Z-Y-X Euler angles; p/q/r are the marker's gyro less the bias
 its calibration measured (body axes). Rows outside the track, where the marker IMU has
 a gap, or more than `LOSA_MAX_GAP_S` from a valid LOSA triangulation (the marker out of
-the tracker's view: IMU dead reckoning) get `marker_valid` 0 (values held at the edges,
-as every optional stream).
+the tracker's view: IMU dead reckoning) get `marker_valid` 0, and there the position and
+velocity are held at the nearest earlier valid row (the first one before it): what the
+filter coasts on there is not a measurement (the attitude and the gyro rates stay as
+they are: the gyro keeps them).
 """
 
 from __future__ import annotations
@@ -112,9 +114,22 @@ def marker_pose_columns(streams: Mapping, t_rows: np.ndarray,
     # marker metres away, self-consistently: not LOSA-aided as far as validity goes
     t_seen = np.sort(np.setdiff1d(t_seen, track.unresolved_t_s))
     valid = coverage(t, t_rows, MARKER_IMU_MAX_GAP_S) & coverage(t_seen, t_rows, LOSA_MAX_GAP_S)
+    _hold_where_invalid(cols, valid, [c for c in POSE_COLUMNS if "_pos_" in c or "_vel_" in c])
     cols["marker_valid"] = valid.astype(float)
     meta = {"source": "pose EKF + RTS smoother (tracking.offline)", **placement.to_dict(),
             "track_start_s": float(t[0]), "track_end_s": float(t[-1]), "samples": int(t.size),
             "gyro_bias_frd_rad_s": bias.tolist(), "valid_fraction": float(valid.mean()),
             "unresolved_losa_frames": int(track.unresolved_t_s.size)}
     return cols, meta
+
+
+def _hold_where_invalid(cols: dict, valid: np.ndarray, names) -> None:
+    """Each of `names` takes, on rows not `valid`, its value at the last valid row before
+    (the first valid row before any); unchanged when no row is valid."""
+    if not valid.any() or valid.all():
+        return
+    idx = np.where(valid, np.arange(valid.size), -1)
+    idx = np.maximum.accumulate(idx)
+    idx[idx < 0] = int(np.argmax(valid))
+    for c in names:
+        cols[c] = np.asarray(cols[c])[idx]

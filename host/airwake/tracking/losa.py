@@ -246,9 +246,25 @@ class SlotResolver:
               >= self.confirm_move_m):
             self.ambiguous, self.ambiguous_at = False, None
 
-    def position(self, peak_px, slot, valid, choose=None):
+    def position(self, peak_px, slot, valid, choose=None, lost: bool = False):
         """The frame's position (3,) with the kept corrections, or None; `choose` (a
-        function of candidate positions (K, 3) -> cost (K,)) re-evaluates them first."""
+        function of candidate positions (K, 3) -> cost (K,)) re-evaluates them first.
+        `lost`: the filter has no prediction worth choosing with (`PoseEkf.lost`): the
+        firmware's own slots are taken (it re-acquires from the central slot, right
+        within ~18 deg of a module's axis) and the choice is ambiguous until confirmed."""
+        if sum(bool(v) for v in valid) < MIN_SENSORS:
+            return None  # no point, whatever the slots (the marker out of view: most frames)
+        if lost:
+            p = triangulate_one(peak_px, slot, valid, self.geometry)
+            if p is None:
+                return None
+            if any(self.shift):
+                self.shift = (0, 0, 0, 0)
+                self.resolved += 1
+            self.ambiguous = True
+            self.ambiguous_choices += 1
+            self.ambiguous_at = np.asarray(p, dtype=float)
+            return self.ambiguous_at.copy()
         if choose is not None:
             shifts, pos = self.candidates(peak_px, slot, valid)
             if shifts.shape[0] == 0:
