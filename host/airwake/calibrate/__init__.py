@@ -62,6 +62,10 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
 
     if method not in ("lsq", "pso"):
         raise CalibrationError(f"unknown method {method!r}; use 'lsq' or 'pso'")
+    # the seconds before the first evaluation (the flight, the front end's filter, which
+    # parameters it identifies) are a step of their own on a long flight
+    prep = Progress("calibrate: preparing", 3, " steps", enabled=progress, min_interval_s=0)
+    prep.update(0, "loading the flight")
     model = load_model(model)
     ft = load_flight(flight)
     free = select_parameters(model, params)
@@ -70,6 +74,7 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     data = FlightData.from_flight(model, ft, channel_scale=channel_scale)
     front = None
     if cutoff_hz:
+        prep.update(1, f"{len(data)} samples; the front end's {cutoff_hz:g} Hz low-pass")
         data, front = _front_end(data, model, float(cutoff_hz), channel_scale)
     windows = make_windows(data, window_s, warmup_s)
     if max_windows is not None and max_windows < windows.n_windows:
@@ -78,9 +83,11 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     pred = WindowedPredictor(model, data, windows)
     held = []
     if params is None:
+        prep.update(2, "which parameters the flight identifies")
         # residuals low-passed at f_c and sampled at f_s are correlated over ~f_s/(2 f_c)
         corr = data_rate_over_band(data, front)
         free, held = identified_subset(model, pred, free, correlation_samples=corr)
+    prep.finish(f"{int(free.sum())} parameters to fit")
     if front is not None and channel_scale is None:
         model, scale = _reweight(model, pred, free, max_nfev, progress)
         data.scale = scale
