@@ -87,14 +87,14 @@ def main(argv: list[str] | None = None) -> int:
                      "--max-windows", CALIBRATION_WINDOWS, "--json", "--progress", capture=True)
     _airwake("sim", "run", "--scenario", args.scenario, "--duration", f"{args.duration:g}",
              "--stepped", "--out", str(rec))
-    _airwake("export", str(rec), "--out", str(flight))
+    _airwake("export", str(rec), "--out", str(flight), "--progress")
     # scoring only: the truth world's columns beside the export (the analysis never reads
     # them; --score does)
     _airwake("sim", "truth", str(rec), "--flight", str(flight), "--out", str(scored))
     est = _airwake("wind", "estimate", str(scored), "--model", str(base), "--score", "--json",
                    "--progress", "--out", str(wind), capture=True)
     amap = _airwake("wind", "map", str(wind), "--flight", str(scored), "--out", str(mapdir),
-                    "--score", "--json", capture=True)
+                    "--score", "--json", "--progress", capture=True)
     still_air = _airwake("model", "compare", str(scored), "--model", str(base), "--windows",
                          "0", "--json", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(base), "--windows",

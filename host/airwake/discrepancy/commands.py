@@ -120,6 +120,14 @@ def _progress(args, label, total):
     return Progress(label, total, enabled=not args.quiet)
 
 
+def _stages(args, label, total):
+    """One line per stage as it starts (imports and the model's first compile take
+    seconds on their own)."""
+    from airwake.progress import Progress
+
+    return Progress(label, total, " stages", enabled=not args.quiet, min_interval_s=0)
+
+
 def _dump(obj) -> None:
     from airwake.discrepancy.report import jsonable
 
@@ -144,6 +152,8 @@ def _table(metrics: dict, extra: dict | None = None) -> str:
 
 
 def _compare(args) -> int:
+    stages = _stages(args, "model compare", 3)
+    stages.update(0, "loading the analysis and the model")
     from airwake.discrepancy.compare import analyse, summary
     from airwake.discrepancy.wind import on_flight
     from airwake.heli import load_model
@@ -151,9 +161,12 @@ def _compare(args) -> int:
     st = _settings(args)
     model = load_model(args.model)
     prog = _progress(args, "free simulation", st.free_sim_window_s * 150)
+    stages.update(1, f"reading {args.flight}")
     flight, wind = on_flight(args.wind, args.flight, st)
+    stages.update(2, f"the model over {len(flight)} samples")
     an = analyse(model, flight, st, free_sim=st.free_sim_windows > 0, progress=prog,
                  wind=wind)
+    stages.finish()
     s = summary(an)
     s["wind"] = str(args.wind) if args.wind else None
     if args.json:
@@ -175,6 +188,8 @@ def _compare(args) -> int:
 
 
 def _diagnose(args) -> int:
+    stages = _stages(args, "model diagnose", 3)
+    stages.update(0, "loading the analysis and the model")
     from airwake.discrepancy import where
     from airwake.discrepancy.candidates import CANDIDATES
     from airwake.discrepancy.diagnose import diagnose, summary
@@ -190,7 +205,9 @@ def _diagnose(args) -> int:
             raise DiscrepancyError(f"--candidates: unknown effect(s) {bad}; the catalogue "
                                    f"has {sorted(known)}")
     model = load_model(args.model)
+    stages.update(1, f"reading {args.flight}")
     flight, wind = on_flight(args.wind, args.flight, st)
+    stages.update(2, f"the model over {len(flight)} samples, then each candidate effect")
     prog = _progress(args, "screening candidates", len(CANDIDATES))
     d = diagnose(model, flight, st, candidates=args.candidates, refine_top=args.refine,
                  sindy=not args.no_sindy, progress=prog, wind=wind,

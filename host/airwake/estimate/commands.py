@@ -188,6 +188,12 @@ def register(subparsers) -> None:
 def _map_handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from airwake.progress import Progress
+
+    stages = Progress("wind map", 2, " stages", enabled=sys.stderr.isatty() or args.progress,
+                      min_interval_s=0)
+    stages.update(0, "reading the wind and the flight")
+
     from airwake.estimate.airwake_map import FLIGHT_COLUMNS
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.map_plots import ShipOutline
@@ -209,10 +215,13 @@ def _map_handle(args: argparse.Namespace) -> int:
         raise WindEstimationError(str(exc)) from None
     ship = ShipOutline(args.deck_length_m, args.beam_m, args.hangar_length_m,
                        args.hangar_width_m)
+    stages.update(1, "placing, gridding" + (", scoring" if args.score else "")
+                  + " and drawing the map")
     summary = make_map(wind, flight, out, cell_m=args.cell_m, layer_m=args.layer_m,
                        min_seconds=args.min_seconds, u_ref=args.reference_speed_m_s,
                        score=args.score, ship=ship, wind_name=str(args.wind),
                        flight_name=str(args.flight))
+    stages.finish(f"{summary['cells']} cells")
     if args.json:
         print(json.dumps(summary, indent=2))
     else:
@@ -260,5 +269,6 @@ def register_map(sub) -> None:
     p.add_argument("--score", action="store_true",
                    help="simulated flights: compare with the truth wind along the track and "
                    "with the simulator's wind field at the cell centres")
+    p.add_argument("--progress", action="store_true", help="progress lines even when piped")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=_map_handle)

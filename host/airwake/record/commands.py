@@ -35,6 +35,11 @@ def _export(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.suffix.lower() not in (".parquet", ".pq", ".csv"):
         raise ExportUsageError(f"--out {out}: use a .parquet or .csv file name")
+    from airwake.progress import Progress
+
+    stages = Progress("export", 2, " stages", enabled=sys.stderr.isatty() or args.progress,
+                      min_interval_s=0)
+    stages.update(0, f"reading {args.recording}")
     rec = open_recording(args.recording)
     overrides = {
         "ned_origin_lla": _floats(args.ned_origin, 3, "--ned-origin"),
@@ -44,9 +49,12 @@ def _export(args: argparse.Namespace) -> int:
                                               "--rover-antenna-to-hub-m"),
         "tracker_height_above_ground_m": args.tracker_height_m,
     }
+    stages.update(1, "clock fits and the table (and the marker's pose, smoothed, when "
+                  "the recording has it)")
     built = export_recording(rec, overrides,
                              remove_stamp_latency=not args.no_latency_correction)
     write_flight_table(built.df, out, built.metadata)
+    stages.finish(f"{len(built.df)} rows")
     m = built.metadata
     summary = {"out": str(out), "rows": len(built.df), "columns": list(built.df.columns),
                "rate_hz": m.get("rate_hz"), "span_s": [m["trimmed"]["start_s"],
@@ -117,6 +125,7 @@ def register(subparsers) -> None:
                    help="keep the boards' stamps: do not subtract the stamp latencies they "
                    "declare (stamp_latency frames) from the streams' times")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.add_argument("--progress", action="store_true", help="progress lines even when piped")
     p.set_defaults(func=_export)
 
     g = subparsers.add_parser("recording", help="inspect or recover daemon recordings")
