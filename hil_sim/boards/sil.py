@@ -325,7 +325,12 @@ class SilRun:
                 cmd += ["--base-antenna-ship-m",
                         ",".join(repr(float(v)) for v in build_config.base_antenna_ship_xy_m)]
         if "losa" in rig.boards:
+            # the marker -> hub lever arm (body axes): the hub from the rover antenna's
+            hub = (np.asarray(build_config.rover_antenna_to_hub_frd_m, float)
+                   + np.asarray(self.scenario.sensors.rover_antenna_m, float))
+            to_hub = hub - np.asarray(rig.marker_position_body_m, float)
             # "=" form: a value starting with "-" would read as an option
+            cmd += ["--marker-to-hub-m=" + ",".join(repr(float(v)) for v in to_hub)]
             cmd += ["--tracker-height-m", repr(rig.tracker_height_m), "--tracker-position-m="
                     + ",".join(repr(float(v)) for v in rig.tracker_position_ned_m),
                     "--tracker-heading-deg", repr(float(rig.tracker_heading_deg)),

@@ -40,6 +40,8 @@ def _handle(args: argparse.Namespace) -> int:
                                                       "--rover-antenna-to-hub-m")
     if args.tracker_height_m is not None:
         meta["tracker_height_above_ground_m"] = args.tracker_height_m
+    if args.marker_to_hub_m is not None:
+        meta["marker_to_hub_frd_m"] = _floats(args.marker_to_hub_m, 3, "--marker-to-hub-m")
     if args.tracker_position_m is not None:
         meta["tracker_position_ned_m"] = _floats(args.tracker_position_m, 3,
                                                  "--tracker-position-m")
@@ -120,6 +122,10 @@ def register(subparsers) -> None:
                    help="rover antenna -> rotor hub, body axes FRD (m)")
     g.add_argument("--tracker-height-m", type=float,
                    help="indoors: LOSA tracker centre height above the floor (m)")
+    g.add_argument("--marker-to-hub-m", metavar="X,Y,Z",
+                   help="indoors: marker centre -> rotor hub, body axes FRD (m): the hub's "
+                   "height from the tracked marker's; write --marker-to-hub-m=0,0,-0.45 "
+                   "when the first value is negative")
     g.add_argument("--tracker-position-m", metavar="N,E,D",
                    help="LOSA tracker centre in the site's NED frame (m): with it the export "
                    "puts the tracked marker's pose in NED (docs/flight-table.md); write "

@@ -137,8 +137,8 @@ class Daemon:
         self.marker = MarkerLoop(options.marker_rate_hz)
         self.tracker = None
         # the pose EKF (filterpy, scipy: ~0.8 s and ~40 MB) loads at start only when asked
-        # (`track` True); by default once a marker or LOSA frame arrives, after the pass that
-        # brought it is on disk (`_load_tracker`); never with `track` False
+        # (`track` True); by default once a marker or LOSA frame arrives, at the end of the
+        # pass that brought it (`_start_tracker`); never with `track` False
         self._tracker_due = False
         self._tracker_wanted = options.track is None
         if options.track:
@@ -263,7 +263,11 @@ class Daemon:
             self._live_nets()
             self._periodic(time.monotonic())
             if self._tracker_due:
-                self._start_tracker()
+                try:
+                    self._start_tracker()
+                except Exception as exc:  # noqa: BLE001 -- the tracker never stops the ingest
+                    self.event("tracker_failed", f"live tracker: {type(exc).__name__}: {exc}; "
+                               "it stays off, recording continues", loud=True)
             self._reap_lost()
             spare = poll - (time.monotonic() - t0)
             if spare > 0 and not self._stop:

@@ -48,6 +48,7 @@ def _export(args: argparse.Namespace) -> int:
         "rover_antenna_to_hub_frd_m": _floats(args.rover_antenna_to_hub_m, 3,
                                               "--rover-antenna-to-hub-m"),
         "tracker_height_above_ground_m": args.tracker_height_m,
+        "marker_to_hub_frd_m": _floats(args.marker_to_hub_m, 3, "--marker-to-hub-m"),
     }
     stages.update(1, "clock fits and the table (and the marker's pose, smoothed, when "
                   "the recording has it)")
@@ -121,6 +122,8 @@ def register(subparsers) -> None:
                    help="base antenna on the ship (x forward of the hangar step, y starboard)")
     p.add_argument("--rover-antenna-to-hub-m", metavar="X,Y,Z")
     p.add_argument("--tracker-height-m", type=float)
+    p.add_argument("--marker-to-hub-m", metavar="X,Y,Z",
+                   help="indoors: marker centre -> rotor hub, body axes FRD (m)")
     p.add_argument("--no-latency-correction", action="store_true",
                    help="keep the boards' stamps: do not subtract the stamp latencies they "
                    "declare (stamp_latency frames) from the streams' times")

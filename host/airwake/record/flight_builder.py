@@ -25,9 +25,10 @@ Output (docs/flight-table.md): one row per rover INS sample (150 Hz), columns
       height = h_base_antenna_above_deck - baseline_d - (R(att) r_antenna->hub)_d
 
   (+inf where there is no float or fixed RTK baseline); indoors without RTK, when
-  `tracker_height_above_ground_m` is configured, the tracked marker's height above the
-  floor, `tracker_d + tracker_height_above_ground_m - marker_pos_d_m`, where `marker_valid`
-  (+inf elsewhere: metadata `height_source`);
+  `tracker_height_above_ground_m` is configured, the hub's height above the floor from
+  the tracked marker, `tracker_d + tracker_height_above_ground_m - marker_pos_d_m -
+  (R(att) r_marker->hub)_d`, where `marker_valid` (+inf elsewhere: metadata
+  `height_source`);
 - ship (base INS): `ship_pos_n/e/d_m`, `ship_roll/pitch/yaw_rad`, `ship_speed_m_s`,
   `ship_vel_n/e/d_m_s`; with the RTK baseline and the base antenna's place on the ship
   (`base_antenna_ship_xy_m`) the hub in the ship frame, `hub_ship_x/y/z_m` = R_ship^T
@@ -146,6 +147,9 @@ class FlightBuildConfig:
     rover_antenna_to_hub_frd_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     tracker_height_above_ground_m: float | None = None  # indoors: height from the tracker
     tracker_placement: TrackerPlacement = TrackerPlacement()  # LOSA tracker in NED
+    # indoors: marker centre -> rotor hub, helicopter body axes FRD (the hub's height from
+    # the tracked marker's)
+    marker_to_hub_frd_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rigging: PwmRigging = DEFAULT_RIGGING
     derivative_window_s: float = DERIVATIVE_WINDOW_S
     derivative_polyorder: int = DERIVATIVE_POLYORDER
@@ -160,6 +164,7 @@ class FlightBuildConfig:
             "rover_antenna_to_hub_frd_m": list(self.rover_antenna_to_hub_frd_m),
             "tracker_height_above_ground_m": self.tracker_height_above_ground_m,
             "tracker_placement": self.tracker_placement.to_dict(),
+            "marker_to_hub_frd_m": list(self.marker_to_hub_frd_m),
             "rigging": self.rigging.to_dict(),
             "derivative": {"method": "savitzky-golay", "window_s": self.derivative_window_s,
                            "polyorder": self.derivative_polyorder},
@@ -457,13 +462,14 @@ def build_flight_table(streams: Mapping[str, MessageTable],
     cols.update(marker_pose_step(streams, t, cfg, meta))
     if (cfg.tracker_height_above_ground_m is not None and height_source == "none"
             and "marker_valid" in cols):
-        # indoors: the tracked marker's height where its pose is LOSA-aided (a raw
-        # triangulation can be metres off on a wrong slot; the INS height is metres off
-        # without RTK), unknown (+inf) elsewhere
+        # indoors: the hub's height from the tracked marker's where its pose is LOSA-aided
+        # (a raw triangulation can be metres off on a wrong slot; the INS height is metres
+        # off without RTK), unknown (+inf) elsewhere
         ground_d = (cfg.tracker_placement.position_ned_m[2]
                     + cfg.tracker_height_above_ground_m)
-        height = np.where(cols["marker_valid"] > 0.5, ground_d - cols["marker_pos_d_m"],
-                          np.inf)
+        to_hub = np.einsum("nij,j->ni", dcm, np.asarray(cfg.marker_to_hub_frd_m, float))
+        height = np.where(cols["marker_valid"] > 0.5,
+                          ground_d - cols["marker_pos_d_m"] - to_hub[:, 2], np.inf)
         height_source = "tracked_marker"
     cols["height_agl_m"] = height
     meta["height_source"] = height_source

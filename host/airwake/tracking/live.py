@@ -165,7 +165,7 @@ class LiveTracker:
             res = self.ekf.update_position(
                 t_s, pos, lever_arm_body_m=LED_RADIUS_M * LED_DIRECTIONS_BODY[led])
             # an ambiguous slot choice is confirmed by motion, as offline (run_pose_ekf)
-            self.slots.confirm(pos, res.outcome == "accepted")
+            self.slots.confirm(pos, res.outcome == "accepted" and self.ekf.settled(), t_s)
 
     def _peaks(self, t_s: float, msg) -> None:
         led = self.active_led

@@ -144,6 +144,10 @@ class PoseEkfConfig:
     coast_s: float = 10.0
     lost_position_sigma_m: float = 1.0
     lost_velocity_sigma_m_s: float = 1.0
+    # an ambiguous LOSA slot choice is confirmed only by motion the filter explains with
+    # its position sigma below this (`settled()`): right after a re-acquisition its wide
+    # covariance would take a wrong choice's motion as well
+    settled_position_sigma_m: float = 0.05
 
     def __post_init__(self) -> None:
         g = np.asarray(self.gravity_ref_m_s2, dtype=float)
@@ -158,7 +162,8 @@ class PoseEkfConfig:
                      "initial_position_sigma_m", "initial_velocity_sigma_m_s",
                      "initial_attitude_sigma_rad", "initial_gyro_bias_sigma_rad_s",
                      "initial_accel_bias_sigma_m_s2", "dropout_s", "reacquire_gate_scale",
-                     "coast_s", "lost_position_sigma_m", "lost_velocity_sigma_m_s"):
+                     "coast_s", "lost_position_sigma_m", "lost_velocity_sigma_m_s",
+                     "settled_position_sigma_m"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise TrackingError(f"PoseEkfConfig.{name} = {value!r}: must be > 0")
@@ -309,6 +314,11 @@ class PoseEkf:
         """Coasting gave up (module doc): position held, velocity zero, until the next
         accepted update."""
         return self._lost
+
+    def settled(self) -> bool:
+        """The position sigma is below `settled_position_sigma_m` on every axis: an
+        accepted update now says the measurement fits, not that P was wide."""
+        return float(np.max(np.diag(self.kf.P)[P_])) < self.config.settled_position_sigma_m ** 2
 
     def _becomes_lost(self) -> bool:
         c = self.config
@@ -521,7 +531,8 @@ def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_p
                     outcome[j], nis[j] = res.outcome, res.nis
                     if resolver is not None:
                         unresolved[j] = resolver.ambiguous
-                        resolver.confirm(z, res.outcome == "accepted")
+                        resolver.confirm(z, res.outcome == "accepted" and ekf.settled(),
+                                         losa_t[j])
             j += 1
         if i == n:
             break
