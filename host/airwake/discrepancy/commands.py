@@ -188,7 +188,7 @@ def _compare(args) -> int:
 
 
 def _diagnose(args) -> int:
-    stages = _stages(args, "model diagnose", 3)
+    stages = _stages(args, "model diagnose", 4)
     stages.update(0, "loading the analysis and the model")
     from airwake.discrepancy import where
     from airwake.discrepancy.candidates import CANDIDATES
@@ -212,11 +212,13 @@ def _diagnose(args) -> int:
     d = diagnose(model, flight, st, candidates=args.candidates, refine_top=args.refine,
                  sindy=not args.no_sindy, progress=prog, wind=wind,
                  model_calibrated=spec_calibration(args.model) is not None)
+    stages.update(3, "where the residual is (regimes, spectra, worst windows)")
     bd = where.breakdown(d.analysis)
     s = summary(d)
     s["where"] = where.summary(bd)
     s["compare"] = {c: {k: v for k, v in m.items() if k != "label"}
                     for c, m in d.analysis.metrics().items()}
+    stages.finish()
     if args.json:
         _dump(s)
         return 0
