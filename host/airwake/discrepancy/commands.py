@@ -121,8 +121,8 @@ def _progress(args, label, total):
 
 
 def _stages(args, label, total):
-    """One line per stage as it starts (imports and the model's first compile take
-    seconds on their own)."""
+    """One line per stage as it starts (the analysis before the first progress line
+    takes seconds on a long flight)."""
     from airwake.progress import Progress
 
     return Progress(label, total, " stages", enabled=not args.quiet, min_interval_s=0)
@@ -152,8 +152,6 @@ def _table(metrics: dict, extra: dict | None = None) -> str:
 
 
 def _compare(args) -> int:
-    stages = _stages(args, "model compare", 3)
-    stages.update(0, "loading the analysis and the model")
     from airwake.discrepancy.compare import analyse, summary
     from airwake.discrepancy.wind import on_flight
     from airwake.heli import load_model
@@ -161,9 +159,10 @@ def _compare(args) -> int:
     st = _settings(args)
     model = load_model(args.model)
     prog = _progress(args, "free simulation", st.free_sim_window_s * 150)
-    stages.update(1, f"reading {args.flight}")
     flight, wind = on_flight(args.wind, args.flight, st)
-    stages.update(2, f"the model over {len(flight)} samples")
+    # stage lines once the inputs are good: an error stays one line
+    stages = _stages(args, "model compare", 1)
+    stages.update(0, f"the model over {len(flight)} samples of {flight.name}")
     an = analyse(model, flight, st, free_sim=st.free_sim_windows > 0, progress=prog,
                  wind=wind)
     stages.finish()
@@ -188,8 +187,6 @@ def _compare(args) -> int:
 
 
 def _diagnose(args) -> int:
-    stages = _stages(args, "model diagnose", 4)
-    stages.update(0, "loading the analysis and the model")
     from airwake.discrepancy import where
     from airwake.discrepancy.candidates import CANDIDATES
     from airwake.discrepancy.diagnose import diagnose, summary
@@ -205,14 +202,16 @@ def _diagnose(args) -> int:
             raise DiscrepancyError(f"--candidates: unknown effect(s) {bad}; the catalogue "
                                    f"has {sorted(known)}")
     model = load_model(args.model)
-    stages.update(1, f"reading {args.flight}")
     flight, wind = on_flight(args.wind, args.flight, st)
-    stages.update(2, f"the model over {len(flight)} samples, then each candidate effect")
+    # stage lines once the inputs are good: an error stays one line
+    stages = _stages(args, "model diagnose", 2)
+    stages.update(0, f"the model over {len(flight)} samples of {flight.name}, then each "
+                  "candidate effect")
     prog = _progress(args, "screening candidates", len(CANDIDATES))
     d = diagnose(model, flight, st, candidates=args.candidates, refine_top=args.refine,
                  sindy=not args.no_sindy, progress=prog, wind=wind,
                  model_calibrated=spec_calibration(args.model) is not None)
-    stages.update(3, "where the residual is (regimes, spectra, worst windows)")
+    stages.update(1, "where the residual is (regimes, spectra, worst windows)")
     bd = where.breakdown(d.analysis)
     s = summary(d)
     s["where"] = where.summary(bd)

@@ -188,17 +188,12 @@ def register(subparsers) -> None:
 def _map_handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from airwake.progress import Progress
-
-    stages = Progress("wind map", 2, " stages", enabled=sys.stderr.isatty() or args.progress,
-                      min_interval_s=0)
-    stages.update(0, "reading the wind and the flight")
-
     from airwake.estimate.airwake_map import FLIGHT_COLUMNS
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.map_plots import ShipOutline
     from airwake.estimate.map_report import make_map
     from airwake.heli.model import WIND_NAMES
+    from airwake.progress import Progress
     from airwake.record.flight_table import FlightTableError, load_flight_table
 
     out = Path(args.out)
@@ -215,7 +210,9 @@ def _map_handle(args: argparse.Namespace) -> int:
         raise WindEstimationError(str(exc)) from None
     ship = ShipOutline(args.deck_length_m, args.beam_m, args.hangar_length_m,
                        args.hangar_width_m)
-    stages.update(1, "placing, gridding" + (", scoring" if args.score else "")
+    stages = Progress("wind map", 1, " stages", enabled=sys.stderr.isatty() or args.progress,
+                      min_interval_s=0)
+    stages.update(0, "placing, gridding" + (", scoring" if args.score else "")
                   + " and drawing the map")
     summary = make_map(wind, flight, out, cell_m=args.cell_m, layer_m=args.layer_m,
                        min_seconds=args.min_seconds, u_ref=args.reference_speed_m_s,

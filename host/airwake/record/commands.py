@@ -37,10 +37,9 @@ def _export(args: argparse.Namespace) -> int:
         raise ExportUsageError(f"--out {out}: use a .parquet or .csv file name")
     from airwake.progress import Progress
 
-    stages = Progress("export", 2, " stages", enabled=sys.stderr.isatty() or args.progress,
-                      min_interval_s=0)
-    stages.update(0, f"reading {args.recording}")
     rec = open_recording(args.recording)
+    stages = Progress("export", 1, " stages", enabled=sys.stderr.isatty() or args.progress,
+                      min_interval_s=0)
     overrides = {
         "ned_origin_lla": _floats(args.ned_origin, 3, "--ned-origin"),
         "base_antenna_height_above_deck_m": args.base_antenna_height_m,
@@ -50,8 +49,8 @@ def _export(args: argparse.Namespace) -> int:
         "tracker_height_above_ground_m": args.tracker_height_m,
         "marker_to_hub_frd_m": _floats(args.marker_to_hub_m, 3, "--marker-to-hub-m"),
     }
-    stages.update(1, "clock fits and the table (and the marker's pose, smoothed, when "
-                  "the recording has it)")
+    stages.update(0, f"{args.recording}: clock fits and the table (and the marker's pose, "
+                  "smoothed, when the recording has it)")
     built = export_recording(rec, overrides,
                              remove_stamp_latency=not args.no_latency_correction)
     write_flight_table(built.df, out, built.metadata)
