@@ -137,9 +137,10 @@ class Daemon:
         self.marker = MarkerLoop(options.marker_rate_hz)
         self.tracker = None
         # the pose EKF (filterpy, scipy: ~0.8 s and ~40 MB) loads at start only when asked
-        # (`track` True); by default once a marker or LOSA frame arrives, at the end of the
-        # pass that brought it (`_start_tracker`); never with `track` False
-        self._tracker_due = False
+        # (`track` True); by default once a marker or LOSA frame arrives, imported by a
+        # thread while the ingest goes on (a second's stall would overflow the ports'
+        # buffers at full rate), started when that is done; never with `track` False
+        self._tracker_loader = None
         self._tracker_wanted = options.track is None
         if options.track:
             self._start_tracker()
@@ -262,7 +263,8 @@ class Daemon:
                 self._track()
             self._live_nets()
             self._periodic(time.monotonic())
-            if self._tracker_due:
+            if self._tracker_loader is not None and not self._tracker_loader.is_alive():
+                self._tracker_loader = None
                 try:
                     self._start_tracker()
                 except Exception as exc:  # noqa: BLE001 -- the tracker never stops the ingest
@@ -330,7 +332,7 @@ class Daemon:
         body = encode_decoded(info, f.msg, f.seq, f.board_time_us, board_us, epoch)
         self.recorder.decoded(topic, info, int(mapped_us * 1000.0), rx_ns, body)
         if self._tracker_wanted and origin in (LOSA_ID, MARKER_ID):
-            self._tracker_wanted, self._tracker_due = False, True
+            self._load_tracker()
         if mid == LOSA_PEAKS.id:
             self.marker.on_peaks(f.msg, now_s)
             if self.tracker is not None and origin == LOSA_ID:
@@ -368,10 +370,25 @@ class Daemon:
             self.event("board_log", f"{b.name}: {text}", board=b.name, level=f.msg.level,
                        code=f.msg.code)
 
+    def _load_tracker(self) -> None:
+        """Import the tracker's modules in a thread; the loop starts it when done."""
+        import threading
+
+        def load() -> None:
+            try:
+                import airwake.tracking.live  # noqa: F401 -- its imports are the cost
+            except Exception:  # noqa: BLE001 -- reported by _start_tracker's own import
+                pass
+
+        self._tracker_wanted = False
+        self._tracker_loader = threading.Thread(target=load, name="tracker-import",
+                                                daemon=True)
+        self._tracker_loader.start()
+
     def _start_tracker(self) -> None:
         from airwake.tracking.live import LiveTracker
 
-        self._tracker_wanted = self._tracker_due = False
+        self._tracker_wanted = False
         self.tracker = LiveTracker()
 
     def _track(self) -> None:
