@@ -45,17 +45,19 @@ AIRWAKE_EXPLAINS = 8.0
 
 
 def _airwake(*args: str, capture: bool = False):
+    """Run one step as the command a user types; its progress lines (stderr) show as it
+    runs, its JSON (stdout, with `capture`) is returned; the step's time is printed."""
     cmd = [sys.executable, "-m", "airwake.cli", *args]
     print(f"\n$ airwake {' '.join(args)}", flush=True)
-    done = subprocess.run(cmd, cwd=REPO_ROOT, capture_output=capture, text=True)
+    t0 = time.monotonic()
+    done = subprocess.run(cmd, cwd=REPO_ROOT, stdout=subprocess.PIPE if capture else None,
+                          text=True)
     if done.returncode != 0:
-        if capture:
-            sys.stderr.write(done.stderr)
         raise SystemExit(f"demo: `airwake {args[0]} {args[1] if len(args) > 1 else ''}` "
                          f"failed with exit status {done.returncode}")
+    print(f"  ({time.monotonic() - t0:.1f} s)", flush=True)
     if capture:
-        out = json.loads(done.stdout)
-        return out
+        return json.loads(done.stdout)
     return None
 
 
@@ -82,23 +84,23 @@ def main(argv: list[str] | None = None) -> int:
     cal = ["--duration", f"{args.calibration_s:g}"] if args.calibration_s else []
     _airwake("sim", "table", "--scenario", "still_air_calibration", *cal, "--out", str(still))
     calib = _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
-                     "--max-windows", CALIBRATION_WINDOWS, "--json", capture=True)
+                     "--max-windows", CALIBRATION_WINDOWS, "--json", "--progress", capture=True)
     _airwake("sim", "run", "--scenario", args.scenario, "--duration", f"{args.duration:g}",
              "--stepped", "--out", str(rec))
-    _airwake("export", str(rec), "--out", str(flight))
+    _airwake("export", str(rec), "--out", str(flight), "--progress")
     # scoring only: the truth world's columns beside the export (the analysis never reads
     # them; --score does)
     _airwake("sim", "truth", str(rec), "--flight", str(flight), "--out", str(scored))
     est = _airwake("wind", "estimate", str(scored), "--model", str(base), "--score", "--json",
-                   "--out", str(wind), capture=True)
+                   "--progress", "--out", str(wind), capture=True)
     amap = _airwake("wind", "map", str(wind), "--flight", str(scored), "--out", str(mapdir),
-                    "--score", "--json", capture=True)
+                    "--score", "--json", "--progress", capture=True)
     still_air = _airwake("model", "compare", str(scored), "--model", str(base), "--windows",
-                         "0", "--json", "--quiet", capture=True)
+                         "0", "--json", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(base), "--windows",
-                         "0", "--wind", str(wind), "--json", "--quiet", capture=True)
+                         "0", "--wind", str(wind), "--json", capture=True)
     diag = _airwake("model", "diagnose", str(scored), "--model", str(base), "--no-sindy",
-                    "--json", "--quiet", capture=True)
+                    "--json", capture=True)
     for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
                        ("diagnose_still_air", diag)):
         (out / f"{name}.json").write_text(json.dumps(data, indent=1))

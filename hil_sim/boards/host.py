@@ -4,7 +4,8 @@
 clock), and gives the runner what lockstep needs without touching the daemon's code:
 
 - `wait_read(target)`: the daemon has read `target` bytes in all — its `rchar` counter
-  (/proc/PID/io; its reads are the ports' bytes). A pty hands written bytes to the
+  (/proc/PID/io; its reads are the ports' bytes, so it must not import anything in
+  mid-flight: `SilRun` starts it with `--track`). A pty hands written bytes to the
   reader's line discipline asynchronously, so an empty input queue is no proof;
 - `wait_idle()`: it is asleep again in its event loop (state S in epoll/select/poll or
   its poll-period nanosleep, /proc/PID/wchan): its pass over those bytes, and whatever
@@ -30,26 +31,54 @@ class SilError(AirwakeError):
     """A SIL run that cannot start or went wrong (what, and where to look)."""
 
 
-def read_chars(pid: int) -> int | None:
-    """Bytes the process has read with read(2) and friends (/proc/PID/io `rchar`)."""
+class ProcFile:
+    """One /proc file of a process, opened once and re-read with pread: the lockstep
+    polls the daemon's files thousands of times a second, and an open() per poll
+    (with pathlib's parsing) was a tenth of the simulator's CPU."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self._fd: int | None = None
+
+    def read(self) -> bytes | None:
+        """The file's content now, or None when it cannot be read (process gone)."""
+        try:
+            if self._fd is None:
+                self._fd = os.open(self.path, os.O_RDONLY)
+            return os.pread(self._fd, 4096, 0)
+        except OSError:
+            self.close()
+            return None
+
+    def close(self) -> None:
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None
+
+
+def _rchar(io: bytes | None) -> int | None:
     try:
-        with open(f"/proc/{pid}/io", "rb") as f:
-            return int(f.readline().split()[1])
-    except (OSError, ValueError, IndexError):
+        return int(io.split(b"\n", 1)[0].split()[1])
+    except (AttributeError, ValueError, IndexError):
         return None
 
 
-def asleep(pid: int) -> bool:
+def _asleep(stat: bytes | None, wchan: ProcFile) -> bool:
     """The process sleeps in its event loop (or has exited). Where the kernel hides the
     wait channel (wchan reads "0"), any interruptible sleep counts."""
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-        if state != "S":
-            return state in ("Z", "X")
-        wchan = Path(f"/proc/{pid}/wchan").read_text().strip()
-    except (OSError, IndexError):
+    if stat is None:
         return True
-    return wchan in ("", "0") or any(w in wchan for w in _IDLE_WAITS)
+    try:
+        state = stat.rsplit(b")", 1)[1].split()[0].decode()
+    except IndexError:
+        return True
+    if state != "S":
+        return state in ("Z", "X")
+    w = wchan.read()
+    if w is None:
+        return True
+    text = w.decode(errors="replace").strip()
+    return text in ("", "0") or any(k in text for k in _IDLE_WAITS)
 
 
 def cpu_seconds(pid: int) -> float | None:
@@ -79,6 +108,9 @@ class HostDaemon:
                                      stderr=subprocess.STDOUT, cwd=cwd)
         self.pid = self.proc.pid
         self.killed = False
+        self._io = ProcFile(f"/proc/{self.pid}/io")
+        self._stat = ProcFile(f"/proc/{self.pid}/stat")
+        self._wchan = ProcFile(f"/proc/{self.pid}/wchan")
 
     @property
     def alive(self) -> bool:
@@ -107,7 +139,10 @@ class HostDaemon:
             time.sleep(0.005)
 
     def read_chars(self) -> int | None:
-        return read_chars(self.pid)
+        return _rchar(self._io.read())
+
+    def asleep(self) -> bool:
+        return _asleep(self._stat.read(), self._wchan)
 
     def cpu_s(self) -> float | None:
         return cpu_seconds(self.pid)
@@ -116,14 +151,14 @@ class HostDaemon:
         """Wait (wall time) until the daemon has read `target` bytes in all; returns 0,
         or the shortfall when nothing was queued for it for 50 ms (`queues_empty()`:
         bytes a lost port discarded never get read — the caller re-bases)."""
-        got = read_chars(self.pid)
+        got = self.read_chars()
         if got is not None and got >= target:
             return 0
         end = time.monotonic() + self.stall_timeout_s
         empty_since = None
         pause = 5e-5
         while True:
-            got = read_chars(self.pid)
+            got = self.read_chars()
             if got is None:  # no /proc/PID/io here: the empty queue is all we can see
                 if queues_empty():
                     return 0
@@ -146,7 +181,7 @@ class HostDaemon:
         """Wait (wall time) until the daemon sleeps in its event loop again."""
         end = time.monotonic() + self.stall_timeout_s
         pause = 5e-5
-        while not asleep(self.pid):
+        while not self.asleep():
             if time.monotonic() > end:
                 raise SilError(f"the daemon has been busy for {self.stall_timeout_s:.0f} s: "
                                f"{self.tail()}")
@@ -163,6 +198,7 @@ class HostDaemon:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
+        self._close_proc_files()
         self._log.close()
         return self.proc.returncode
 
@@ -175,11 +211,16 @@ class HostDaemon:
             self.proc.wait(10)
         return t
 
+    def _close_proc_files(self) -> None:
+        for f in (self._io, self._stat, self._wchan):
+            f.close()
+
     def close(self) -> None:
         """Best effort after an error: kill if running, close the log."""
         if self.proc.poll() is None:
             self.killed = True
             self.proc.kill()
             self.proc.wait()
+        self._close_proc_files()
         if not self._log.closed:
             self._log.close()

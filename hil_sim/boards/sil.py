@@ -62,7 +62,7 @@ DAEMON_START_TIMEOUT_S = 60.0
 PORT_OPEN_TIMEOUT_S = 30.0
 DRAIN_TIMEOUT_S = 10.0
 WRITE_STALL_TIMEOUT_S = 20.0
-STEPPED_POLL_MS = 1.0
+STEPPED_POLL_MS = 0.0
 
 
 def sil_rngs(seed: int) -> dict[str, np.random.Generator]:
@@ -304,6 +304,8 @@ class SilRun:
             head = [sys.executable, "-m", "airwake.cli"]
         cmd = head + ["daemon", "--out", str(self.out), "--status-json",
                       str(self._tmp / "status.json"), "--quiet"]
+        if self.mode == "stepped" and {"marker", "losa"} <= set(rig.boards):
+            cmd += ["--track"]
         if self.mode == "stepped":
             # the daemon sleeps the rest of its poll period while the clock stands still
             # (the simulator waits for it to read a step): a short period keeps that wait
@@ -323,7 +325,12 @@ class SilRun:
                 cmd += ["--base-antenna-ship-m",
                         ",".join(repr(float(v)) for v in build_config.base_antenna_ship_xy_m)]
         if "losa" in rig.boards:
+            # the marker -> hub lever arm (body axes): the hub from the rover antenna's
+            hub = (np.asarray(build_config.rover_antenna_to_hub_frd_m, float)
+                   + np.asarray(self.scenario.sensors.rover_antenna_m, float))
+            to_hub = hub - np.asarray(rig.marker_position_body_m, float)
             # "=" form: a value starting with "-" would read as an option
+            cmd += ["--marker-to-hub-m=" + ",".join(repr(float(v)) for v in to_hub)]
             cmd += ["--tracker-height-m", repr(rig.tracker_height_m), "--tracker-position-m="
                     + ",".join(repr(float(v)) for v in rig.tracker_position_ned_m),
                     "--tracker-heading-deg", repr(float(rig.tracker_heading_deg)),

@@ -5,7 +5,7 @@ Each area contributes a module named `bench` (`airwake/<area>/bench.py`,
 with
 
     SECTION = "link"                      # short name for --only
-    def run(quick: bool) -> dict          # figures, keys as in ARCHITECTURE.md
+    def run(quick: bool) -> dict          # figures, keys as in docs/bench.md
 
 Figures are measured in the same run as whatever they are compared with. A
 section that fails reports `"<section>_error": "..."` instead of its figures so
@@ -26,7 +26,8 @@ from pathlib import Path
 
 import airwake
 
-_EXTRA_BENCH_MODULES = ("hil_sim.bench", "hil_sim.wind_bench", "hil_sim.truth_bench")
+_EXTRA_BENCH_MODULES = ("airwake.cli_bench", "hil_sim.bench", "hil_sim.wind_bench",
+                        "hil_sim.truth_bench")
 # Bench modules that live outside the Python packages, relative to the repository root.
 _REPO_BENCH_FILES = ("firmware/bench/bench.py",)
 _REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -91,7 +92,10 @@ def _handle(args: argparse.Namespace) -> int:
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser("bench", help="measure the performance figures (see ARCHITECTURE.md)")
+    p = subparsers.add_parser(
+        "bench", help="measure the performance figures (keys and targets: docs/bench.md)",
+        description="Measure every area's performance figures and print them as one object "
+        "(keys, targets and where each is measured: docs/bench.md).")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--only", nargs="+", metavar="SECTION", help="run only these sections")
     p.add_argument("--quick", action="store_true", help="smaller workloads (smoke test)")

@@ -3,8 +3,10 @@
 Each area registers its sub-commands in a module named `commands` that defines
 `register(subparsers)` (e.g. `airwake/link/commands.py` adds `decode`,
 `hil_sim/commands.py` adds `sim`). Adding a command never edits this file.
-`commands` modules must import only argparse-level things at module scope: heavy
-imports (numpy, torch, scipy) go inside the handlers so `airwake --help` is fast.
+`commands` modules must import only argparse-level things at module scope, and so must
+their packages' `__init__` (`airwake.lazy`): heavy imports (numpy, torch, scipy, pandas)
+go inside the handlers so `airwake --help`, every `airwake X --help` and an argument error
+answer at once (tests/test_cli_imports.py checks which modules they load).
 
 A handler is stored with `parser.set_defaults(func=handler)`; it receives the
 parsed namespace and returns an exit status (or None for 0).
@@ -17,7 +19,9 @@ import importlib
 import importlib.util
 import pkgutil
 import sys
+import warnings
 from collections.abc import Sequence
+from pathlib import Path
 
 import airwake
 from airwake.errors import AirwakeError
@@ -29,7 +33,10 @@ _EXTRA_COMMAND_MODULES = ("hil_sim.commands",)
 def _command_modules() -> list[str]:
     names = []
     for info in pkgutil.iter_modules(airwake.__path__):
-        if info.ispkg and importlib.util.find_spec(f"airwake.{info.name}.commands"):
+        # listed from the folder, not `find_spec`, which would import every area's
+        # package (airwake.heli: numba) just to ask
+        if info.ispkg and any(sub.name == "commands" for sub in pkgutil.iter_modules(
+                [str(Path(info.module_finder.path) / info.name)])):
             names.append(f"airwake.{info.name}.commands")
     names.append("airwake.bench")
     for name in _EXTRA_COMMAND_MODULES:
@@ -54,6 +61,21 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line_warnings(command: str):
+    """`warnings.showwarning` for the command: airwake's own warnings (e.g.
+    `FlightTableWarning`: an implausible column the command does not read) as one line
+    on stderr; others as Python prints them."""
+    default = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if category.__module__.startswith("airwake."):
+            print(f"airwake {command}: warning: {message}", file=file or sys.stderr)
+        else:
+            default(message, category, filename, lineno, file, line)
+
+    return show
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -63,7 +85,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         (getattr(args, "_group_parser", None) or parser).print_help(sys.stderr)
         return 2
     try:
-        status = func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings(args.command)
+            status = func(args)
     except AirwakeError as exc:
         print(f"airwake {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -1,13 +1,17 @@
 """Flight-table loader: both formats load, every error case names file/column/row."""
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
 from airwake.record.flight_table import (
     CONTRACT_COLUMNS,
     FlightTableError,
+    FlightTableWarning,
     load_flight_table,
     measured_columns,
+    validate_flight_table,
     write_flight_table,
 )
 
@@ -97,7 +101,41 @@ def test_values_outside_plausible_units_name_column_value_and_row(tmp_path, colu
     df = _table()
     df.loc[3, column] = value
     with pytest.raises(FlightTableError, match=rf"'{column}' value {value!r} at row 3"):
-        load_flight_table(_write(tmp_path, df))
+        load_flight_table(_write(tmp_path, df), reads=("pwm_ch1_us",))
+
+
+def test_a_column_the_command_does_not_read_is_a_one_line_warning_not_a_refusal(tmp_path):
+    # a good flight must not be refused for a column the command never reads (issue 22:
+    # a diverged tracker column stopped `model diagnose`); the user still hears of it
+    df = _table(40)
+    df["tracker_pos_x_m"] = 0.5
+    df.loc[[7, 8, 9, 30], "pwm_ch1_us"] = 1.5
+    df.loc[12, "tracker_pos_x_m"] = np.nan
+    with pytest.warns(FlightTableWarning) as caught:
+        ft = load_flight_table(_write(tmp_path, df))
+    assert len(ft) == 40
+    text = sorted(str(w.message) for w in caught)
+    assert len(text) == 2 and all("\n" not in t and "f.csv" in t for t in text)
+    assert "'pwm_ch1_us' has 4 value(s) outside the plausible range [500, 2500]" in text[0]
+    assert "rows 7-9, 30" in text[0] and "not read here" in text[0]
+    assert "'tracker_pos_x_m' has 1 value(s) NaN" in text[1] and "rows 12 " in text[1]
+
+
+def test_a_flagged_column_is_checked_only_where_its_flag_is_set(tmp_path):
+    # marker pose while the tracker is lost means nothing; where it is valid it is data
+    df = _table()
+    df["marker_vel_n_m_s"] = 0.1
+    df["marker_valid"] = 1.0
+    df.loc[5:9, "marker_valid"] = 0.0
+    df.loc[6, "marker_vel_n_m_s"] = -100.03
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        validate_flight_table(df, "f", reads=("marker_vel_n_m_s",))
+    df.loc[12, "marker_vel_n_m_s"] = -100.03
+    with pytest.raises(FlightTableError, match=r"'marker_vel_n_m_s' value -100.03 at row 12"):
+        validate_flight_table(df, "f", reads=("marker_vel_n_m_s",))
+    with pytest.warns(FlightTableWarning, match="where marker_valid is 1, rows 12 "):
+        validate_flight_table(df, "f")
 
 
 def test_parquet_rejects_nan_too(tmp_path):

@@ -154,6 +154,39 @@ def test_after_a_dropout_the_gate_widens_and_the_position_is_reacquired():
     assert np.linalg.norm(ekf.pos - (0.0, 1.0, 3.0)) < 0.01
 
 
+def test_a_marker_out_of_view_is_held_not_integrated_and_reacquired_when_it_returns():
+    # issue 22: out of the tracker's view for a minute, a 0.2 m/s^2 accelerometer error
+    # integrated to metres per second and the export wrote it as data. Once the filter's
+    # position sigma passes lost_position_sigma_m (at the latest after coast_s) the
+    # position is held, the velocity is zero and P stays bounded; the marker is picked
+    # up again at its first frame back.
+    ekf, gyro, accel = _at_rest_ekf()
+    for k in range(100):
+        _rest(ekf, gyro, accel, k / 100, (k + 1) / 100)
+        ekf.update_position((k + 1) / 100 + 1e-4, (0.0, 0.0, 3.0))
+    biased = accel + (0.2, 0.0, 0.0)  # what dead reckoning would turn into 90 m in 30 s
+    sigma = []
+    for k in range(30):
+        _rest(ekf, gyro, biased, 1.0 + k, 2.0 + k)
+        sigma.append(np.sqrt(np.diag(ekf.P)[:6]))
+    cfg = ekf.config
+    assert ekf.lost and ekf.in_dropout(ekf.t_s) and ekf.counters.lost == 1
+    assert np.all(ekf.vel == 0.0)
+    assert np.linalg.norm(ekf.pos - (0.0, 0.0, 3.0)) < 0.5 * 0.2 * cfg.coast_s ** 2
+    assert np.allclose(sigma[-1], sigma[int(cfg.coast_s)])  # fixed once lost, not growing
+    assert np.all(sigma[-1][:3] <= cfg.lost_position_sigma_m * 1.01)
+    assert np.all(sigma[-1][3:] <= cfg.lost_velocity_sigma_m_s * 1.01)
+    assert np.linalg.eigvalsh(ekf.P).min() > 0
+    # back in view 1.5 m away: accepted at once through the widened gate, then tracked
+    res = ekf.update_position(31.0 + 1e-4, (1.5, 0.0, 3.0))
+    assert res.outcome == "accepted" and not ekf.lost
+    for k in range(100):
+        _rest(ekf, gyro, accel, 31 + k / 100, 31 + (k + 1) / 100)
+        ekf.update_position(31 + (k + 1) / 100 + 1e-4, (1.5, 0.0, 3.0))
+    assert np.linalg.norm(ekf.pos - (1.5, 0.0, 3.0)) < 0.05
+    assert np.linalg.norm(ekf.vel) < 0.1
+
+
 def test_late_frames_beyond_max_lag_are_rejected_and_counted():
     ekf, gyro, accel = _at_rest_ekf(max_lag_s=0.02)
     _rest(ekf, gyro, accel, 0.0, 1.0)

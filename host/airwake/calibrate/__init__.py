@@ -16,13 +16,17 @@ Model-generated flights for tests and benches: `airwake.calibrate.synthetic`.
 from __future__ import annotations
 
 import os
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from airwake.calibrate.errors import CalibrationError
-from airwake.calibrate.fit import FitResult
+from airwake.lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from airwake.calibrate.fit import FitResult
 
 __all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight"]
+# numpy and the fit load on first use: `airwake --help` imports this package
+__getattr__, __dir__ = lazy_exports(__name__, {"FitResult": "airwake.calibrate.fit"})
 
 
 def load_flight(flight):
@@ -48,6 +52,8 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     front end's zero-phase low-pass of every signal (the wind estimator's, so the model is
     fitted to what the estimator will compare it with; None or 0: the raw flight). The
     seed drives the PSO (initial swarm, r1/r2, the window subset) and nothing else."""
+    import numpy as np
+
     from airwake.calibrate.envelope import flight_envelope, wind_trust
     from airwake.calibrate.params import identified_subset, select_parameters
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
@@ -56,6 +62,10 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
 
     if method not in ("lsq", "pso"):
         raise CalibrationError(f"unknown method {method!r}; use 'lsq' or 'pso'")
+    # the seconds before the first evaluation (the flight, the front end's filter, which
+    # parameters it identifies) are a step of their own on a long flight
+    prep = Progress("calibrate: preparing", 3, " steps", enabled=progress, min_interval_s=0)
+    prep.update(0, "loading the flight")
     model = load_model(model)
     ft = load_flight(flight)
     free = select_parameters(model, params)
@@ -64,6 +74,7 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     data = FlightData.from_flight(model, ft, channel_scale=channel_scale)
     front = None
     if cutoff_hz:
+        prep.update(1, f"{len(data)} samples; the front end's {cutoff_hz:g} Hz low-pass")
         data, front = _front_end(data, model, float(cutoff_hz), channel_scale)
     windows = make_windows(data, window_s, warmup_s)
     if max_windows is not None and max_windows < windows.n_windows:
@@ -72,9 +83,11 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     pred = WindowedPredictor(model, data, windows)
     held = []
     if params is None:
+        prep.update(2, "which parameters the flight identifies")
         # residuals low-passed at f_c and sampled at f_s are correlated over ~f_s/(2 f_c)
         corr = data_rate_over_band(data, front)
         free, held = identified_subset(model, pred, free, correlation_samples=corr)
+    prep.finish(f"{int(free.sum())} parameters to fit")
     if front is not None and channel_scale is None:
         model, scale = _reweight(model, pred, free, max_nfev, progress)
         data.scale = scale
@@ -115,6 +128,8 @@ def _reweight(model, pred, free, max_nfev, progress):
     subset of the windows, then each channel's scale = its residual RMS there (the
     maximum-likelihood weights when each channel's misfit variance is unknown). Returns
     the first fit's model (the start of the full fit) and the scales."""
+    import numpy as np
+
     from airwake.calibrate.lsq import fit_lsq
     from airwake.calibrate.residuals import WindowedPredictor
     from airwake.progress import Progress
@@ -137,6 +152,8 @@ def _front_end(data, model, cutoff_hz: float, channel_scale):
     fixed-Jacobian rotor step needs the full rate) and its channel scales: the raw
     white-noise scale times sqrt(2 f_c / f_s), the share of white noise the filter passes,
     unless given."""
+    import numpy as np
+
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.prefilter import prefilter
 

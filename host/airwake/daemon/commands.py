@@ -40,6 +40,8 @@ def _handle(args: argparse.Namespace) -> int:
                                                       "--rover-antenna-to-hub-m")
     if args.tracker_height_m is not None:
         meta["tracker_height_above_ground_m"] = args.tracker_height_m
+    if args.marker_to_hub_m is not None:
+        meta["marker_to_hub_frd_m"] = _floats(args.marker_to_hub_m, 3, "--marker-to-hub-m")
     if args.tracker_position_m is not None:
         meta["tracker_position_ned_m"] = _floats(args.tracker_position_m, 3,
                                                  "--tracker-position-m")
@@ -57,7 +59,8 @@ def _handle(args: argparse.Namespace) -> int:
         ports=[PortSpec.parse(p) for p in args.port], out=Path(args.out),
         status_json=args.status_json, duration_s=args.duration, view=not args.quiet,
         poll_s=args.poll_ms / 1000.0, marker_rate_hz=args.marker_rate_hz,
-        track=not args.no_track, net=args.net, wind_net=args.wind_net,
+        track=False if args.no_track else (True if args.track else None), net=args.net,
+        wind_net=args.wind_net,
         segment_s=args.segment_s, record_metadata=meta, live=args.live, foxglove=args.foxglove,
         # the page updates at >= 2 Hz with the very snapshot --status-json writes
         status_period_s=0.5 if args.live is not None else 1.0)
@@ -85,9 +88,14 @@ def register(subparsers) -> None:
                    help="loop period: reads are batched at most this long (default 5)")
     p.add_argument("--marker-rate-hz", type=float, default=60.0,
                    help="marker_command rate when a marker and a LOSA are present")
-    p.add_argument("--no-track", action="store_true",
-                   help="no live pose EKF (by default it runs once the marker and LOSA "
-                   "send frames, records /host/pose and gives the marker loop its position)")
+    track = p.add_mutually_exclusive_group()
+    track.add_argument("--no-track", action="store_true",
+                       help="no live pose EKF (by default it loads when the first marker or "
+                       "LOSA frame arrives, runs once both send frames, records /host/pose "
+                       "and gives the marker loop its position)")
+    track.add_argument("--track", action="store_true",
+                       help="load the live pose EKF at start instead of at the first marker "
+                       "or LOSA frame")
     p.add_argument("--net", metavar="NET.pt", default=None,
                    help="a rate net (airwake nets train): live airwake intensity A_ω per "
                    "rover INS sample, recorded on /host/airwake_intensity (docs/networks.md)")
@@ -114,6 +122,10 @@ def register(subparsers) -> None:
                    help="rover antenna -> rotor hub, body axes FRD (m)")
     g.add_argument("--tracker-height-m", type=float,
                    help="indoors: LOSA tracker centre height above the floor (m)")
+    g.add_argument("--marker-to-hub-m", metavar="X,Y,Z",
+                   help="indoors: marker centre -> rotor hub, body axes FRD (m): the hub's "
+                   "height from the tracked marker's; write --marker-to-hub-m=0,0,-0.45 "
+                   "when the first value is negative")
     g.add_argument("--tracker-position-m", metavar="N,E,D",
                    help="LOSA tracker centre in the site's NED frame (m): with it the export "
                    "puts the tracked marker's pose in NED (docs/flight-table.md); write "

@@ -82,7 +82,9 @@ class DaemonOptions:
     schema_period_s: float = 0.25
     status_period_s: float = 1.0
     marker_rate_hz: float = 60.0
-    track: bool = True  # the live pose EKF (runs once marker and LOSA frames arrive)
+    # the live pose EKF (runs once marker and LOSA frames arrive): None loads it when the
+    # first marker or LOSA frame arrives, True at start, False never
+    track: bool | None = None
     net: str | None = None  # a rate net (.pt): live A_ω on /host/airwake_intensity
     wind_net: str | None = None  # a wind net (.pt): the live eq 5.3 wind on /host/wind
     flush_s: float = 0.1  # recording.FLUSH_S: what a crash may lose (docs/daemon.md)
@@ -134,10 +136,14 @@ class Daemon:
 
         self.marker = MarkerLoop(options.marker_rate_hz)
         self.tracker = None
+        # the pose EKF (filterpy, scipy: ~0.8 s and ~40 MB) loads at start only when asked
+        # (`track` True); by default once a marker or LOSA frame arrives, imported by a
+        # thread while the ingest goes on (a second's stall would overflow the ports'
+        # buffers at full rate), started when that is done; never with `track` False
+        self._tracker_loader = None
+        self._tracker_wanted = options.track is None
         if options.track:
-            from airwake.tracking.live import LiveTracker
-
-            self.tracker = LiveTracker()
+            self._start_tracker()
         self.intensity = None
         self.nets: list[tuple[str, str, dict, str]] = []  # (attribute, topic, schema, label)
         net_meta = {}
@@ -257,6 +263,13 @@ class Daemon:
                 self._track()
             self._live_nets()
             self._periodic(time.monotonic())
+            if self._tracker_loader is not None and not self._tracker_loader.is_alive():
+                self._tracker_loader = None
+                try:
+                    self._start_tracker()
+                except Exception as exc:  # noqa: BLE001 -- the tracker never stops the ingest
+                    self.event("tracker_failed", f"live tracker: {type(exc).__name__}: {exc}; "
+                               "it stays off, recording continues", loud=True)
             self._reap_lost()
             spare = poll - (time.monotonic() - t0)
             if spare > 0 and not self._stop:
@@ -318,6 +331,8 @@ class Daemon:
             topic = self.topics[(origin, mid)] = f"/{b.name}/{info.name}"
         body = encode_decoded(info, f.msg, f.seq, f.board_time_us, board_us, epoch)
         self.recorder.decoded(topic, info, int(mapped_us * 1000.0), rx_ns, body)
+        if self._tracker_wanted and origin in (LOSA_ID, MARKER_ID):
+            self._load_tracker()
         if mid == LOSA_PEAKS.id:
             self.marker.on_peaks(f.msg, now_s)
             if self.tracker is not None and origin == LOSA_ID:
@@ -354,6 +369,27 @@ class Daemon:
             text = bytes(f.msg.text_utf8).split(b"\0", 1)[0].decode("utf-8", "replace")
             self.event("board_log", f"{b.name}: {text}", board=b.name, level=f.msg.level,
                        code=f.msg.code)
+
+    def _load_tracker(self) -> None:
+        """Import the tracker's modules in a thread; the loop starts it when done."""
+        import threading
+
+        def load() -> None:
+            try:
+                import airwake.tracking.live  # noqa: F401 -- its imports are the cost
+            except Exception:  # noqa: BLE001 -- reported by _start_tracker's own import
+                pass
+
+        self._tracker_wanted = False
+        self._tracker_loader = threading.Thread(target=load, name="tracker-import",
+                                                daemon=True)
+        self._tracker_loader.start()
+
+    def _start_tracker(self) -> None:
+        from airwake.tracking.live import LiveTracker
+
+        self._tracker_wanted = False
+        self.tracker = LiveTracker()
 
     def _track(self) -> None:
         """Apply the queued marker/LOSA frames to the pose EKF; record its poses."""

@@ -120,6 +120,14 @@ def _progress(args, label, total):
     return Progress(label, total, enabled=not args.quiet)
 
 
+def _stages(args, label, total):
+    """One line per stage as it starts (the analysis before the first progress line
+    takes seconds on a long flight)."""
+    from airwake.progress import Progress
+
+    return Progress(label, total, " stages", enabled=not args.quiet, min_interval_s=0)
+
+
 def _dump(obj) -> None:
     from airwake.discrepancy.report import jsonable
 
@@ -152,8 +160,12 @@ def _compare(args) -> int:
     model = load_model(args.model)
     prog = _progress(args, "free simulation", st.free_sim_window_s * 150)
     flight, wind = on_flight(args.wind, args.flight, st)
+    # stage lines once the inputs are good: an error stays one line
+    stages = _stages(args, "model compare", 1)
+    stages.update(0, f"the model over {len(flight)} samples of {flight.name}")
     an = analyse(model, flight, st, free_sim=st.free_sim_windows > 0, progress=prog,
                  wind=wind)
+    stages.finish()
     s = summary(an)
     s["wind"] = str(args.wind) if args.wind else None
     if args.json:
@@ -191,15 +203,21 @@ def _diagnose(args) -> int:
                                    f"has {sorted(known)}")
     model = load_model(args.model)
     flight, wind = on_flight(args.wind, args.flight, st)
+    # stage lines once the inputs are good: an error stays one line
+    stages = _stages(args, "model diagnose", 2)
+    stages.update(0, f"the model over {len(flight)} samples of {flight.name}, then each "
+                  "candidate effect")
     prog = _progress(args, "screening candidates", len(CANDIDATES))
     d = diagnose(model, flight, st, candidates=args.candidates, refine_top=args.refine,
                  sindy=not args.no_sindy, progress=prog, wind=wind,
                  model_calibrated=spec_calibration(args.model) is not None)
+    stages.update(1, "where the residual is (regimes, spectra, worst windows)")
     bd = where.breakdown(d.analysis)
     s = summary(d)
     s["where"] = where.summary(bd)
     s["compare"] = {c: {k: v for k, v in m.items() if k != "label"}
                     for c, m in d.analysis.metrics().items()}
+    stages.finish()
     if args.json:
         _dump(s)
         return 0

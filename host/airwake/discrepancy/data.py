@@ -82,24 +82,21 @@ def load_flight(source, settings: AnalysisSettings | None = None) -> Flight:
     settings = settings or AnalysisSettings()
     if isinstance(source, Flight):
         return source
-    if isinstance(source, str | Path):
-        name = str(source)
-        try:
-            df = load_flight_table(source, required=REQUIRED_COLUMNS).df
-        except FlightTableError as exc:
-            raise DiscrepancyError(str(exc)) from None
-    elif isinstance(source, FlightTable):
-        name = str(source.path) if source.path else "<flight table>"
-        df = source.df
-    elif isinstance(source, pd.DataFrame):
-        name, df = "<data frame>", source
-    else:
-        raise DiscrepancyError(f"cannot read a flight from {type(source).__name__}")
-    df = df[measured_columns(df)].reset_index(drop=True)
     try:
-        validate_flight_table(df, name, REQUIRED_COLUMNS)
+        if isinstance(source, str | Path):
+            name = str(source)
+            df = load_flight_table(source, REQUIRED_COLUMNS, OPTIONAL_COLUMNS).df
+        elif isinstance(source, FlightTable):
+            name = str(source.path) if source.path else "<flight table>"
+            df = validate_flight_table(source.df, name, REQUIRED_COLUMNS, OPTIONAL_COLUMNS)
+        elif isinstance(source, pd.DataFrame):
+            name = "<data frame>"
+            df = validate_flight_table(source, name, REQUIRED_COLUMNS, OPTIONAL_COLUMNS)
+        else:
+            raise DiscrepancyError(f"cannot read a flight from {type(source).__name__}")
     except FlightTableError as exc:
         raise DiscrepancyError(str(exc)) from None
+    df = df[measured_columns(df)].reset_index(drop=True)
     if len(df) < 100:
         raise DiscrepancyError(f"{name}: only {len(df)} samples; the analysis needs >= 100 "
                                f"(a few seconds of flight)")

@@ -318,6 +318,8 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
         results.append(screen(an, cand, blocks, n_eff, y))
         if progress is not None:
             progress.update(i + 1, cand.name)
+    if progress is not None:
+        progress.update(len(cands), f"unmodelled wind, then refining the best {refine_top}")
     if with_wind:
         results.append(_screen_wind(an, blocks, n_eff, y))
     results.sort(key=lambda r: -r.cv_explained)
@@ -346,6 +348,9 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
     for res in results:
         res.reason = reason_for(an, res)
     diag = Diagnosis(an, results + untestable, n_eff, model_calibrated=model_calibrated)
+    if progress is not None:
+        progress.finish("decided" + ("; checking whether recalibrating explains more"
+                                     if model_calibrated is not True else ""))
     if model_calibrated is not True:
         diag.recalibration = screen_recalibration(an, blocks, n_eff, y, results)
     if sindy:

@@ -225,7 +225,7 @@ def _truth_wind(flight_source, flight) -> np.ndarray:
         df = flight_source
     else:
         try:
-            df = load_flight_table(flight_source).df
+            df = load_flight_table(flight_source, ("t_s",), cols).df
         except FlightTableError as exc:
             raise DiscrepancyError(str(exc)) from None
     missing = [c for c in cols if c not in df.columns]
@@ -246,7 +246,7 @@ def _wind_table(path: Path, flight) -> np.ndarray:
     )
 
     try:
-        wt = load_flight_table(path, required=("t_s",))
+        wt = load_flight_table(path, ("t_s",), (*WIND_NAMES, *NED_COLUMNS))
     except FlightTableError as exc:
         raise DiscrepancyError(f"--wind: {exc}") from None
     df = wt.df

@@ -8,9 +8,15 @@ reference §5.4 (eq 5.17) over the 6-D eq 5.3 wind (docs/wind-estimation.md).
 Pieces: `resample` (pure resamplers (weights, rng) -> indexes), `wind_model` (the
 state-space model: wind random walk + helicopter measurement model with per-particle
 rotor states), `particle_filter` (the algorithm), `wind` (flight in, table out, score).
+The names below are imported on first use (`airwake.lazy`): `airwake --help` imports
+this package and must not pay for scipy and numba.
 """
 
-from airwake.estimate.errors import WindEstimationError
-from airwake.estimate.wind import TABLE_5_3, estimate_wind, score_wind, write_wind
+from airwake.lazy import lazy_exports
 
 __all__ = ["TABLE_5_3", "WindEstimationError", "estimate_wind", "score_wind", "write_wind"]
+__getattr__, __dir__ = lazy_exports(__name__, {
+    "WindEstimationError": "airwake.estimate.errors",
+    **dict.fromkeys(["TABLE_5_3", "estimate_wind", "score_wind", "write_wind"],
+                    "airwake.estimate.wind"),
+})

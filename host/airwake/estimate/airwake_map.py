@@ -64,6 +64,9 @@ ROT_NAMES = ("wx_rad_s", "wy_rad_s", "wz_rad_s")
 SHIP_POSITION = ("hub_ship_x_m", "hub_ship_y_m", "hub_ship_z_m")
 SITE_POSITION = ("pos_n_m", "pos_e_m", "pos_d_m")
 ATTITUDE = ("roll_rad", "pitch_rad", "yaw_rad")
+SHIP_MOTION = ("ship_yaw_rad", "ship_vel_n_m_s", "ship_vel_e_m_s", "ship_vel_d_m_s")
+# every flight column the map reads (checked when the flight is loaded)
+FLIGHT_COLUMNS = (*ATTITUDE, *SHIP_POSITION, *SITE_POSITION, *SHIP_MOTION, "hub_ship_valid")
 
 
 @dataclass
@@ -153,7 +156,7 @@ def map_samples(wind_df, flight_df, ins_std: float = 0.05,
     frame = map_frame(flight_df)
     need = [*ATTITUDE, *(SHIP_POSITION if frame == "ship" else SITE_POSITION)]
     if frame == "ship":
-        need += ["ship_yaw_rad", "ship_vel_n_m_s", "ship_vel_e_m_s", "ship_vel_d_m_s"]
+        need += list(SHIP_MOTION)
     missing = [c for c in need if c not in flight_df.columns]
     if missing:
         raise WindEstimationError(f"the flight lacks column(s) {missing} for the map")

@@ -188,28 +188,37 @@ def register(subparsers) -> None:
 def _map_handle(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from airwake.estimate.airwake_map import FLIGHT_COLUMNS
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.map_plots import ShipOutline
     from airwake.estimate.map_report import make_map
+    from airwake.heli.model import WIND_NAMES
+    from airwake.progress import Progress
     from airwake.record.flight_table import FlightTableError, load_flight_table
 
     out = Path(args.out)
     if not out.parent.is_dir():
         raise WindEstimationError(f"cannot write {out}: directory {out.parent} does not exist")
     try:
-        wind = load_flight_table(args.wind, required=())
+        wind = load_flight_table(args.wind, required=(), reads=(
+            *WIND_NAMES, *(f"{n}_std" for n in WIND_NAMES)))
     except FlightTableError as exc:
         raise WindEstimationError(str(exc)) from None
     try:
-        flight = load_flight_table(args.flight, required=("t_s",))
+        flight = load_flight_table(args.flight, ("t_s",), FLIGHT_COLUMNS)
     except FlightTableError as exc:
         raise WindEstimationError(str(exc)) from None
     ship = ShipOutline(args.deck_length_m, args.beam_m, args.hangar_length_m,
                        args.hangar_width_m)
+    stages = Progress("wind map", 1, " stages", enabled=sys.stderr.isatty() or args.progress,
+                      min_interval_s=0)
+    stages.update(0, "placing, gridding" + (", scoring" if args.score else "")
+                  + " and drawing the map")
     summary = make_map(wind, flight, out, cell_m=args.cell_m, layer_m=args.layer_m,
                        min_seconds=args.min_seconds, u_ref=args.reference_speed_m_s,
                        score=args.score, ship=ship, wind_name=str(args.wind),
                        flight_name=str(args.flight))
+    stages.finish(f"{summary['cells']} cells")
     if args.json:
         print(json.dumps(summary, indent=2))
     else:
@@ -257,5 +266,6 @@ def register_map(sub) -> None:
     p.add_argument("--score", action="store_true",
                    help="simulated flights: compare with the truth wind along the track and "
                    "with the simulator's wind field at the cell centres")
+    p.add_argument("--progress", action="store_true", help="progress lines even when piped")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=_map_handle)

@@ -11,19 +11,22 @@ pilot inputs explain; what they cannot predict is the disturbance (the airwake).
 
 Files: features (eq 2.1-2.3), data (partial flight tables), split (chronological or time
 blocks), model (the network, its .pt file and model card), train (AdamW, PSO eq 4.11, ARX),
-metrics,
-evaluate (predict / held-out scores), commands (`airwake nets`), bench.
+metrics, evaluate (predict / held-out scores), commands (`airwake nets`), bench. The names
+below are imported on first use (`airwake.lazy`): `airwake --help` must not load torch.
 """
 
-from airwake.nets.data import NetFlight, load_net_flight, net_flight_from_df
-from airwake.nets.evaluate import evaluate_net, predict
-from airwake.nets.features import FeatureConfig, build_features
-from airwake.nets.model import NetFileError, PilotNet, load_net, save_net
-from airwake.nets.split import SplitConfig
-from airwake.nets.train import AdamWConfig, PSOConfig, train_net
+from airwake.lazy import lazy_exports
 
 __all__ = [
     "AdamWConfig", "FeatureConfig", "NetFileError", "NetFlight", "PSOConfig", "PilotNet",
     "SplitConfig", "build_features", "evaluate_net", "load_net", "load_net_flight",
     "net_flight_from_df", "predict", "save_net", "train_net",
 ]
+__getattr__, __dir__ = lazy_exports(__name__, {
+    **dict.fromkeys(["NetFlight", "load_net_flight", "net_flight_from_df"], "airwake.nets.data"),
+    **dict.fromkeys(["evaluate_net", "predict"], "airwake.nets.evaluate"),
+    **dict.fromkeys(["FeatureConfig", "build_features"], "airwake.nets.features"),
+    **dict.fromkeys(["NetFileError", "PilotNet", "load_net", "save_net"], "airwake.nets.model"),
+    "SplitConfig": "airwake.nets.split",
+    **dict.fromkeys(["AdamWConfig", "PSOConfig", "train_net"], "airwake.nets.train"),
+})

@@ -6,20 +6,16 @@ The flight-table names below are imported lazily: importing `airwake.record` (as
 daemon does for the recorder) must not pull in pandas.
 """
 
-from importlib import import_module
+from airwake.lazy import lazy_exports
 
 __all__ = [
     "CONTRACT_COLUMNS",
     "FlightTable",
     "FlightTableError",
+    "FlightTableWarning",
     "load_flight_table",
     "measured_columns",
     "validate_flight_table",
     "write_flight_table",
 ]
-
-
-def __getattr__(name: str):
-    if name in __all__:
-        return getattr(import_module("airwake.record.flight_table"), name)
-    raise AttributeError(f"module 'airwake.record' has no attribute {name!r}")
+__getattr__, __dir__ = lazy_exports(__name__, dict.fromkeys(__all__, "airwake.record.flight_table"))

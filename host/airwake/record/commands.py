@@ -35,7 +35,11 @@ def _export(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.suffix.lower() not in (".parquet", ".pq", ".csv"):
         raise ExportUsageError(f"--out {out}: use a .parquet or .csv file name")
+    from airwake.progress import Progress
+
     rec = open_recording(args.recording)
+    stages = Progress("export", 1, " stages", enabled=sys.stderr.isatty() or args.progress,
+                      min_interval_s=0)
     overrides = {
         "ned_origin_lla": _floats(args.ned_origin, 3, "--ned-origin"),
         "base_antenna_height_above_deck_m": args.base_antenna_height_m,
@@ -43,10 +47,14 @@ def _export(args: argparse.Namespace) -> int:
         "rover_antenna_to_hub_frd_m": _floats(args.rover_antenna_to_hub_m, 3,
                                               "--rover-antenna-to-hub-m"),
         "tracker_height_above_ground_m": args.tracker_height_m,
+        "marker_to_hub_frd_m": _floats(args.marker_to_hub_m, 3, "--marker-to-hub-m"),
     }
+    stages.update(0, f"{args.recording}: clock fits and the table (and the marker's pose, "
+                  "smoothed, when the recording has it)")
     built = export_recording(rec, overrides,
                              remove_stamp_latency=not args.no_latency_correction)
     write_flight_table(built.df, out, built.metadata)
+    stages.finish(f"{len(built.df)} rows")
     m = built.metadata
     summary = {"out": str(out), "rows": len(built.df), "columns": list(built.df.columns),
                "rate_hz": m.get("rate_hz"), "span_s": [m["trimmed"]["start_s"],
@@ -113,10 +121,13 @@ def register(subparsers) -> None:
                    help="base antenna on the ship (x forward of the hangar step, y starboard)")
     p.add_argument("--rover-antenna-to-hub-m", metavar="X,Y,Z")
     p.add_argument("--tracker-height-m", type=float)
+    p.add_argument("--marker-to-hub-m", metavar="X,Y,Z",
+                   help="indoors: marker centre -> rotor hub, body axes FRD (m)")
     p.add_argument("--no-latency-correction", action="store_true",
                    help="keep the boards' stamps: do not subtract the stamp latencies they "
                    "declare (stamp_latency frames) from the streams' times")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.add_argument("--progress", action="store_true", help="progress lines even when piped")
     p.set_defaults(func=_export)
 
     g = subparsers.add_parser("recording", help="inspect or recover daemon recordings")

@@ -199,10 +199,12 @@ def recording_streams(rec: Recording) -> tuple[dict[str, MessageTable], dict]:
 def build_config(rec: Recording, overrides: dict | None = None) -> FlightBuildConfig:
     """Builder settings from the recording's metadata (daemon options), then overrides."""
     keys = ("ned_origin_lla", "base_antenna_height_above_deck_m", "base_antenna_ship_xy_m",
-            "rover_antenna_to_hub_frd_m", "tracker_height_above_ground_m")
+            "rover_antenna_to_hub_frd_m", "tracker_height_above_ground_m",
+            "marker_to_hub_frd_m")
     values = {k: rec.metadata[k] for k in keys if rec.metadata.get(k) is not None}
     values.update({k: v for k, v in (overrides or {}).items() if v is not None})
-    for k in ("ned_origin_lla", "rover_antenna_to_hub_frd_m", "base_antenna_ship_xy_m"):
+    for k in ("ned_origin_lla", "rover_antenna_to_hub_frd_m", "base_antenna_ship_xy_m",
+              "marker_to_hub_frd_m"):
         if k in values:
             values[k] = tuple(float(x) for x in values[k])
     if "rigging" in rec.metadata:

@@ -24,8 +24,11 @@ Output (docs/flight-table.md): one row per rover INS sample (150 Hz), columns
 
       height = h_base_antenna_above_deck - baseline_d - (R(att) r_antenna->hub)_d
 
-  (+inf where there is no RTK baseline, or `tracker_height_above_ground_m - y_tracker`
-  indoors without RTK when that height is configured);
+  (+inf where there is no float or fixed RTK baseline); indoors without RTK, when
+  `tracker_height_above_ground_m` is configured, the hub's height above the floor from
+  the tracked marker, `tracker_d + tracker_height_above_ground_m - marker_pos_d_m -
+  (R(att) r_marker->hub)_d`, where `marker_valid` (+inf elsewhere: metadata
+  `height_source`);
 - ship (base INS): `ship_pos_n/e/d_m`, `ship_roll/pitch/yaw_rad`, `ship_speed_m_s`,
   `ship_vel_n/e/d_m_s`; with the RTK baseline and the base antenna's place on the ship
   (`base_antenna_ship_xy_m`) the hub in the ship frame, `hub_ship_x/y/z_m` = R_ship^T
@@ -144,6 +147,9 @@ class FlightBuildConfig:
     rover_antenna_to_hub_frd_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     tracker_height_above_ground_m: float | None = None  # indoors: height from the tracker
     tracker_placement: TrackerPlacement = TrackerPlacement()  # LOSA tracker in NED
+    # indoors: marker centre -> rotor hub, helicopter body axes FRD (the hub's height from
+    # the tracked marker's)
+    marker_to_hub_frd_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rigging: PwmRigging = DEFAULT_RIGGING
     derivative_window_s: float = DERIVATIVE_WINDOW_S
     derivative_polyorder: int = DERIVATIVE_POLYORDER
@@ -158,6 +164,7 @@ class FlightBuildConfig:
             "rover_antenna_to_hub_frd_m": list(self.rover_antenna_to_hub_frd_m),
             "tracker_height_above_ground_m": self.tracker_height_above_ground_m,
             "tracker_placement": self.tracker_placement.to_dict(),
+            "marker_to_hub_frd_m": list(self.marker_to_hub_frd_m),
             "rigging": self.rigging.to_dict(),
             "derivative": {"method": "savitzky-golay", "window_s": self.derivative_window_s,
                            "polyorder": self.derivative_polyorder},
@@ -427,13 +434,16 @@ def build_flight_table(streams: Mapping[str, MessageTable],
             lever = np.einsum("nij,j->ni", dcm, np.asarray(cfg.rover_antenna_to_hub_frd_m,
                                                           dtype=float))
             h = cfg.base_antenna_height_above_deck_m - rel[:, 2] - lever[:, 2]
-            height = np.where(rel_ok, h, np.inf)
             height_source = "rtk_baseline"
             hub_from_base = rel + lever  # base antenna -> rotor hub, NED
             hub_ok = rel_ok
         fix = hold_previous(tb_all, fix_all, t) if tb_all.size else np.zeros(t.size)
         fix = np.where(coverage(tb_all, t, gap[RTK_BASELINE]), fix, 0)
         cols["rtk_fix"] = fix.astype(float)
+        if height_source == "rtk_baseline":
+            # a DGNSS baseline is metres off vertically: the height is known only with a
+            # carrier-phase (float or fixed RTK) solution
+            height = np.where(rel_ok & (fix >= 2), h, np.inf)
 
     lp = streams.get(LOSA_PEAKS)
     if lp is not None and len(lp):
@@ -449,10 +459,18 @@ def build_flight_table(streams: Mapping[str, MessageTable],
             cols.update({"tracker_pos_x_m": tp_rows[:, 0], "tracker_pos_y_m": tp_rows[:, 1],
                          "tracker_pos_z_m": tp_rows[:, 2],
                          "tracker_valid": tracker_ok.astype(float)})
-            if cfg.tracker_height_above_ground_m is not None and height_source == "none":
-                height = np.where(tracker_ok, cfg.tracker_height_above_ground_m
-                                  - tp_rows[:, 1], np.inf)
-                height_source = "tracker"
+    cols.update(marker_pose_step(streams, t, cfg, meta))
+    if (cfg.tracker_height_above_ground_m is not None and height_source == "none"
+            and "marker_valid" in cols):
+        # indoors: the hub's height from the tracked marker's where its pose is LOSA-aided
+        # (a raw triangulation can be metres off on a wrong slot; the INS height is metres
+        # off without RTK), unknown (+inf) elsewhere
+        ground_d = (cfg.tracker_placement.position_ned_m[2]
+                    + cfg.tracker_height_above_ground_m)
+        to_hub = np.einsum("nij,j->ni", dcm, np.asarray(cfg.marker_to_hub_frd_m, float))
+        height = np.where(cols["marker_valid"] > 0.5,
+                          ground_d - cols["marker_pos_d_m"] - to_hub[:, 2], np.inf)
+        height_source = "tracked_marker"
     cols["height_agl_m"] = height
     meta["height_source"] = height_source
 
@@ -491,7 +509,6 @@ def build_flight_table(streams: Mapping[str, MessageTable],
                              .astype(float)})
 
     cols.update(anemometer_columns(streams, t, gap[ANEMOMETER]))
-    cols.update(marker_pose_step(streams, t, cfg, meta))
 
     # -- trim to the rows every required stream covers ------------------------
     if not keep.any():

@@ -5,9 +5,14 @@
     cols = measured_columns(ft.df)                # everything except truth_*
 
 Validation raises `FlightTableError` (one line naming file, column, row and value) for a
-missing file, unknown extension, missing columns, NaNs, non-monotonic or duplicated time
-and values outside plausible unit ranges (degrees where radians are expected, rpm for
-rad/s, …). Extra columns are kept. Metadata: Parquet schema metadata key "airwake"
+missing file, unknown extension, missing columns, and — in the columns the caller reads
+(`required` and `reads`) — NaNs, non-monotonic or duplicated time and values outside
+plausible unit ranges (degrees where radians are expected, rpm for rad/s, …). The same
+faults in a column the caller does not read are one `FlightTableWarning` each (column,
+rows, values) and the table is used as it is: a command is never refused for a column it
+does not read. A column with a validity flag (`marker_*` and `marker_valid`, ...:
+`VALIDITY_FLAGS`) is checked only where its flag is 1; elsewhere its values are held and
+mean nothing. Extra columns are kept. Metadata: Parquet schema metadata key "airwake"
 (JSON); CSV: a first line `# airwake-metadata: {json}`.
 """
 
@@ -15,6 +20,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -70,10 +76,26 @@ PREFIX_RANGES: dict[str, tuple[float, float]] = {
 }
 # Columns allowed to hold +inf (unknown height above ground).
 INF_OK = {"height_agl_m"}
+# Columns whose rows mean something only where a flag column is 1 (an optional stream's
+# `<name>_valid`, docs/flight-table.md): by name prefix, the flag itself excluded.
+VALIDITY_FLAGS: dict[str, str] = {
+    "marker_": "marker_valid",
+    "tracker_pos_": "tracker_valid",
+    "anemo_": "anemo_valid",
+    "hub_ship_": "hub_ship_valid",
+    "ship_": "ship_valid",
+    "tail_servo_": "tail_servo_valid",
+}
 
 
 class FlightTableError(AirwakeError):
     """A flight table that cannot be used as is (file, column, row and value named)."""
+
+
+class FlightTableWarning(UserWarning):
+    """An implausible value in a column the command does not read (one line: file,
+    column, rows, values); the command goes on. `airwake` prints it as
+    `airwake COMMAND: warning: ...`."""
 
 
 @dataclass
@@ -104,38 +126,86 @@ def _range_for(column: str) -> tuple[float, float] | None:
     return None
 
 
+def validity_flag(column: str) -> str | None:
+    """The flag column saying where `column` holds data (`VALIDITY_FLAGS`), or None."""
+    for prefix, flag in VALIDITY_FLAGS.items():
+        if column.startswith(prefix) and column != flag:
+            return flag
+    return None
+
+
+def _spans(rows: np.ndarray, most: int = 3) -> str:
+    """'7536-8120, 9000' for sorted row indexes (the first `most` runs, then a count)."""
+    cut = np.flatnonzero(np.diff(rows) > 1) + 1
+    runs = [(int(r[0]), int(r[-1])) for r in np.split(rows, cut)]
+    text = ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in runs[:most])
+    return text + (f" and {len(runs) - most} more spans" if len(runs) > most else "")
+
+
+def _implausible(df: pd.DataFrame, column: str) -> tuple[np.ndarray, str] | None:
+    """(bad rows, what is wrong) of one numeric column, on the rows its flag marks valid."""
+    v = df[column].to_numpy(dtype=float)
+    flag = validity_flag(column)
+    where = (df[flag].to_numpy(dtype=float) > 0.5) if flag in df.columns else None
+    bad = np.isnan(v) if column in INF_OK else ~np.isfinite(v)
+    if where is not None:
+        bad &= where
+    if bad.any():
+        return bad, "NaN/non-finite"
+    rng = _range_for(column)
+    if rng is None:
+        return None
+    out = (v < rng[0]) | (v > rng[1])
+    if where is not None:
+        out &= where
+    if out.any():
+        return out, f"outside the plausible range [{rng[0]:g}, {rng[1]:g}]"
+    return None
+
+
 def validate_flight_table(
-    df: pd.DataFrame, source: str = "<table>", required: Sequence[str] = CONTRACT_COLUMNS
+    df: pd.DataFrame, source: str = "<table>", required: Sequence[str] = CONTRACT_COLUMNS,
+    reads: Sequence[str] = (),
 ) -> pd.DataFrame:
-    """Check columns, NaNs, time and unit ranges; returns df (unchanged) or raises."""
+    """Check the columns a command reads — `required` (must be there) and `reads` (read
+    when present) — for NaNs, time order and unit ranges; returns df (unchanged) or raises
+    `FlightTableError`. Every other column with such a fault is a `FlightTableWarning`
+    naming it and its rows; the table is still returned."""
     missing = [c for c in required if c not in df.columns]
     if missing:
         raise FlightTableError(
             f"{source}: missing column(s) {missing}; a flight table needs {list(required)} "
             "(see docs/flight-table.md)"
         )
+    checked = set(required) | set(reads) | {TIME}
     for c in df.columns:
         if not pd.api.types.is_numeric_dtype(df[c]):
             if c in required:
                 raise FlightTableError(f"{source}: column '{c}' is not numeric ({df[c].dtype})")
             continue
+        found = _implausible(df, str(c))
+        if found is None:
+            continue
+        bad, what = found
+        rows = np.flatnonzero(bad)
         v = df[c].to_numpy(dtype=float)
-        bad = np.isnan(v) if c in INF_OK else ~np.isfinite(v)
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise FlightTableError(
-                f"{source}: column '{c}' has {int(bad.sum())} NaN/non-finite value(s), "
-                f"first at row {i} ({float(v[i])!r})"
-            )
-        rng = _range_for(str(c))
-        if rng is not None:
-            out = (v < rng[0]) | (v > rng[1])
-            if out.any():
-                i = int(np.argmax(out))
+        i = int(rows[0])
+        if c in checked:
+            if what.startswith("NaN"):
                 raise FlightTableError(
-                    f"{source}: column '{c}' value {float(v[i])!r} at row {i} outside the "
-                    f"plausible range [{rng[0]:g}, {rng[1]:g}] (wrong unit? names carry SI units)"
+                    f"{source}: column '{c}' has {rows.size} NaN/non-finite value(s), "
+                    f"first at row {i} ({float(v[i])!r})"
                 )
+            raise FlightTableError(
+                f"{source}: column '{c}' value {float(v[i])!r} at row {i} {what} (wrong "
+                "unit? names carry SI units)"
+            )
+        flag = validity_flag(str(c))
+        flagged = f" where {flag} is 1" if flag in df.columns else ""
+        warnings.warn(FlightTableWarning(
+            f"{source}: column '{c}' has {rows.size} value(s) {what}{flagged}, rows "
+            f"{_spans(rows)} (e.g. {float(v[i])!r} at row {i}); not read here, left as is"),
+            stacklevel=2)
     if TIME in df.columns:
         t = df[TIME].to_numpy(dtype=float)
         dt = np.diff(t)
@@ -207,10 +277,12 @@ def read_flight_metadata(path) -> dict:
         f"{p}: unknown flight-table extension '{p.suffix}'; use .parquet or .csv")
 
 
-def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS) -> FlightTable:
-    """Load and validate a Parquet or CSV flight table."""
+def load_flight_table(path, required: Sequence[str] = CONTRACT_COLUMNS,
+                      reads: Sequence[str] = ()) -> FlightTable:
+    """Load and validate a Parquet or CSV flight table for a command that reads the
+    `required` columns and, when present, `reads` (`validate_flight_table`)."""
     df, metadata = read_flight_table(path)
-    validate_flight_table(df, str(path), required)
+    validate_flight_table(df, str(path), required, reads)
     return FlightTable(df, metadata, Path(path))
 
 

@@ -10,9 +10,14 @@ stands at `tracker_position_ned_m`, facing `tracker_heading_deg`, tilted up by
 
 roll/pitch/yaw are R_NB's Z-Y-X Euler angles; p/q/r are the marker's gyro less the bias
 its calibration measured (body axes). Rows outside the track, where the marker IMU has
-a gap, or more than `LOSA_MAX_GAP_S` from a valid LOSA triangulation (the marker out of
-the tracker's view: IMU dead reckoning) get `marker_valid` 0 (values held at the edges,
-as every optional stream).
+a gap, more than `LOSA_MAX_GAP_S` from a LOSA update the filter accepted (the marker out
+of the tracker's view: IMU dead reckoning), or where the filter disagrees with the LOSA
+(more than `MAX_GATED_FRACTION` of the frames within `LOSA_MAX_GAP_S` gated, or a
+re-acquisition within `REACQUIRED_MARGIN_S`: its state jumped, the smoother's track
+across the jump is no measurement) get `marker_valid` 0, and there the position and
+velocity are held at the nearest earlier valid row (the first one before it): what the
+filter coasts on there is not a measurement (the attitude and the gyro rates stay as
+they are: the gyro keeps them).
 """
 
 from __future__ import annotations
@@ -27,6 +32,12 @@ MARKER_IMU_MAX_GAP_S = 0.05
 # Rows farther than this from a valid LOSA triangulation are dead reckoning on the marker
 # IMU alone (metres of drift within seconds): not valid.
 LOSA_MAX_GAP_S = 0.25
+# The filter and the LOSA disagree: a few frames gated at LED switches are normal (12 of
+# 5821 on the simulated flight, docs/tracking.md); a quarter is a track that does not
+# follow the marker (the SIL still-air flight's bursts: half the frames gated, the
+# smoothed depth 0.8 m off while frames were still being accepted).
+MAX_GATED_FRACTION = 0.25
+REACQUIRED_MARGIN_S = 0.5
 POSE_COLUMNS = tuple(
     [f"marker_pos_{a}_m" for a in "ned"] + [f"marker_vel_{a}_m_s" for a in "ned"]
     + [f"marker_{a}_rad" for a in ("roll", "pitch", "yaw")]
@@ -69,9 +80,7 @@ def marker_pose_columns(streams: Mapping, t_rows: np.ndarray,
     from scipy.spatial.transform import Rotation
 
     from airwake.record.flight_builder import coverage, interp_columns
-    from airwake.tracking.losa import SENSOR_FLAG_VALID, triangulate
     from airwake.tracking.offline import (
-        LOSA_PEAKS,
         MARKER_ATTITUDE,
         MARKER_IMU,
         MODE_TRACKING,
@@ -104,17 +113,47 @@ def marker_pose_columns(streams: Mapping, t_rows: np.ndarray,
     cols.update({"marker_roll_rad": np.interp(t_rows, t, roll),
                  "marker_pitch_rad": np.interp(t_rows, t, pitch), "marker_yaw_rad": yaw_rows})
     cols.update({f"marker_{a}_rad_s": rates[:, i] for i, a in enumerate("pqr")})
-    peaks = streams[LOSA_PEAKS]
-    _, seen = triangulate(peaks.data["peak_px"], peaks.data["slot"],
-                          (peaks.data["sensor_flags"] & SENSOR_FLAG_VALID) != 0)
-    t_seen = np.asarray(peaks.t_s, float)[seen]
-    # frames fused on an ambiguous slot re-acquisition (after a long dropout) may put the
-    # marker metres away, self-consistently: not LOSA-aided as far as validity goes
-    t_seen = np.sort(np.setdiff1d(t_seen, track.unresolved_t_s))
-    valid = coverage(t, t_rows, MARKER_IMU_MAX_GAP_S) & coverage(t_seen, t_rows, LOSA_MAX_GAP_S)
+    valid = coverage(t, t_rows, MARKER_IMU_MAX_GAP_S) & losa_aided(track, t_rows)
+    _hold_where_invalid(cols, valid, [c for c in POSE_COLUMNS if "_pos_" in c or "_vel_" in c])
     cols["marker_valid"] = valid.astype(float)
     meta = {"source": "pose EKF + RTS smoother (tracking.offline)", **placement.to_dict(),
             "track_start_s": float(t[0]), "track_end_s": float(t[-1]), "samples": int(t.size),
             "gyro_bias_frd_rad_s": bias.tolist(), "valid_fraction": float(valid.mean()),
             "unresolved_losa_frames": int(track.unresolved_t_s.size)}
     return cols, meta
+
+
+def _hold_where_invalid(cols: dict, valid: np.ndarray, names) -> None:
+    """Each of `names` takes, on rows not `valid`, its value at the last valid row before
+    (the first valid row before any); unchanged when no row is valid."""
+    if not valid.any() or valid.all():
+        return
+    idx = np.where(valid, np.arange(valid.size), -1)
+    idx = np.maximum.accumulate(idx)
+    idx[idx < 0] = int(np.argmax(valid))
+    for c in names:
+        cols[c] = np.asarray(cols[c])[idx]
+
+
+def losa_aided(track, t_rows: np.ndarray) -> np.ndarray:
+    """(M,) bool: rows within `LOSA_MAX_GAP_S` of a LOSA update the forward filter accepted
+    on a settled slot choice (frames fused on an open ambiguous re-acquisition may put
+    the marker metres away, self-consistently), with at most `MAX_GATED_FRACTION` of the
+    frames in that window gated and no re-acquisition within `REACQUIRED_MARGIN_S`."""
+    from airwake.record.flight_builder import coverage
+
+    t_l = np.asarray(track.losa_t_s, float)
+    outcome = np.asarray(track.losa_outcome)
+    accepted = np.sort(np.setdiff1d(t_l[outcome == "accepted"], track.unresolved_t_s))
+    aided = coverage(accepted, t_rows, LOSA_MAX_GAP_S)
+    judged = np.sort(t_l[np.isin(outcome, ("accepted", "gated", "reacquired"))])
+    gated = np.sort(t_l[outcome == "gated"])
+
+    def within(times, half):
+        return (np.searchsorted(times, t_rows + half, side="right")
+                - np.searchsorted(times, t_rows - half, side="left"))
+
+    n = within(judged, LOSA_MAX_GAP_S)
+    agree = within(gated, LOSA_MAX_GAP_S) <= MAX_GATED_FRACTION * n
+    calm = within(np.sort(t_l[outcome == "reacquired"]), REACQUIRED_MARGIN_S) == 0
+    return aided & agree & calm

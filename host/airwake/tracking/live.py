@@ -66,6 +66,9 @@ POSE_SCHEMA = {
         "slot_ambiguous": {"type": "boolean",
                            "description": "the LOSA slots re-acquired without a clear "
                                           "winner, not yet confirmed by a 0.3 m move"},
+        "lost": {"type": "boolean",
+                 "description": "no update accepted for the filter's coast_s: position "
+                                "held, velocity zero, not integrated (docs/tracking.md)"},
         "accepted": {"type": "integer"}, "gated": {"type": "integer"},
         "reacquired": {"type": "integer"}, "late": {"type": "integer"},
         "predictions": {"type": "integer"},
@@ -162,7 +165,7 @@ class LiveTracker:
             res = self.ekf.update_position(
                 t_s, pos, lever_arm_body_m=LED_RADIUS_M * LED_DIRECTIONS_BODY[led])
             # an ambiguous slot choice is confirmed by motion, as offline (run_pose_ekf)
-            self.slots.confirm(pos, res.outcome == "accepted")
+            self.slots.confirm(pos, res.outcome == "accepted" and self.ekf.settled(), t_s)
 
     def _peaks(self, t_s: float, msg) -> None:
         led = self.active_led
@@ -175,7 +178,7 @@ class LiveTracker:
             arm = LED_RADIUS_M * LED_DIRECTIONS_BODY[led]
             choose = ((lambda c: self.ekf.candidate_nis(t_s, c, arm))
                       if self.ekf.in_dropout(t_s) else None)
-            p = self.slots.position(msg.peak_px, msg.slot, valid, choose)
+            p = self.slots.position(msg.peak_px, msg.slot, valid, choose, self.ekf.lost)
             if p is not None:
                 p = tuple(float(v) for v in p)
         if p is None:
@@ -257,7 +260,7 @@ class LiveTracker:
                 "vel_sigma_m_s": d[V_].tolist(), "att_sigma_rad": d[TH].tolist(),
                 "gyro_bias_rad_s": e.gyro_bias.tolist(), "accel_bias_m_s2": e.accel_bias.tolist(),
                 "valid": self.valid(), "slot_ambiguous": self.slots.ambiguous,
-                "accepted": c.accepted, "gated": c.gated,
+                "lost": e.lost, "accepted": c.accepted, "gated": c.gated,
                 "reacquired": c.reacquired, "late": c.late, "predictions": c.predictions}
 
     def status(self) -> dict:
@@ -273,7 +276,8 @@ class LiveTracker:
                                 for v in np.diag(e.P)[P_].tolist()],
                 "accepted": c.accepted, "gated": c.gated, "reacquired": c.reacquired,
                 "late": c.late, "triangulated": self.triangulated, "restarts": self.restarts,
-                "slot_corrections": self.slots.resolved, "slot_ambiguous": self.slots.ambiguous}
+                "slot_corrections": self.slots.resolved, "slot_ambiguous": self.slots.ambiguous,
+                "lost": e.lost}
 
 
 __all__ = ["LiveTracker", "POSE_SCHEMA"]

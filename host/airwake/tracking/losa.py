@@ -201,16 +201,23 @@ class SlotResolver:
     the wrong slots rotate the track by tens of degrees about the tracker, so a move the
     IMU measures does not match and the updates are gated until a re-acquisition from a
     short dropout decides clearly. The caller confirms a choice (`confirm()`) once the
-    track has moved `confirm_move_m` with every update accepted (`run_pose_ekf`); until
+    track has moved `confirm_move_m` with every update accepted by a settled filter
+    (`PoseEkf.settled`: a wide covariance accepts a wrong choice's motion too;
+    `run_pose_ekf`); until
     then the fused frames are not trustworthy (`record.marker_pose` leaves them out of
     `marker_valid`)."""
 
     def __init__(self, geometry: LosaGeometry = DEFAULT_GEOMETRY,
-                 ambiguity_nis: float = 20.0, confirm_move_m: float = 0.3) -> None:
+                 ambiguity_nis: float = 20.0, confirm_move_m: float = 0.3,
+                 confirm_s: float = 1.0) -> None:
         self.geometry = geometry
         self.ambiguity_nis = float(ambiguity_nis)
         self.confirm_move_m = float(confirm_move_m)
+        # and for this long: at flying speed 0.3 m takes 0.1 s, too short for the IMU to
+        # tell a wrong choice's rotated track (a SIL still-air flight confirmed one 2 m off)
+        self.confirm_s = float(confirm_s)
         self.ambiguous_at: np.ndarray | None = None  # the position of the open choice
+        self.ambiguous_since: float | None = None  # when its count (re)started
         self.shift = (0, 0, 0, 0)
         self.resolved = 0  # re-acquisitions that changed the corrections
         self.ambiguous = False
@@ -235,20 +242,41 @@ class SlotResolver:
         keep = ok & (pos[:, 2] > 0.0)
         return shifts[keep], pos[keep]
 
-    def confirm(self, pos_ref_m, accepted: bool) -> None:
+    def confirm(self, pos_ref_m, accepted: bool, t_s: float | None = None) -> None:
         """Track the open ambiguous choice: a rejected update restarts the count; a move
-        of `confirm_move_m` from the choice's position, every update accepted, confirms it."""
+        of `confirm_move_m` from the choice's position over at least `confirm_s` (when
+        the times `t_s` are given), every update accepted, confirms it."""
         if not self.ambiguous or self.ambiguous_at is None:
             return
+        if self.ambiguous_since is None or not accepted:
+            self.ambiguous_since = t_s
         if not accepted:
             self.ambiguous_at = np.array(pos_ref_m, dtype=float)
         elif (np.linalg.norm(np.asarray(pos_ref_m, float) - self.ambiguous_at)
-              >= self.confirm_move_m):
-            self.ambiguous, self.ambiguous_at = False, None
+              >= self.confirm_move_m and (t_s is None or self.ambiguous_since is None
+                                          or t_s - self.ambiguous_since >= self.confirm_s)):
+            self.ambiguous, self.ambiguous_at, self.ambiguous_since = False, None, None
 
-    def position(self, peak_px, slot, valid, choose=None):
+    def position(self, peak_px, slot, valid, choose=None, lost: bool = False):
         """The frame's position (3,) with the kept corrections, or None; `choose` (a
-        function of candidate positions (K, 3) -> cost (K,)) re-evaluates them first."""
+        function of candidate positions (K, 3) -> cost (K,)) re-evaluates them first.
+        `lost`: the filter has no prediction worth choosing with (`PoseEkf.lost`): the
+        firmware's own slots are taken (it re-acquires from the central slot, right
+        within ~18 deg of a module's axis) and the choice is ambiguous until confirmed."""
+        if sum(bool(v) for v in valid) < MIN_SENSORS:
+            return None  # no point, whatever the slots (the marker out of view: most frames)
+        if lost:
+            p = triangulate_one(peak_px, slot, valid, self.geometry)
+            if p is None:
+                return None
+            if any(self.shift):
+                self.shift = (0, 0, 0, 0)
+                self.resolved += 1
+            self.ambiguous = True
+            self.ambiguous_choices += 1
+            self.ambiguous_at = np.asarray(p, dtype=float)
+            self.ambiguous_since = None
+            return self.ambiguous_at.copy()
         if choose is not None:
             shifts, pos = self.candidates(peak_px, slot, valid)
             if shifts.shape[0] == 0:
@@ -261,10 +289,12 @@ class SlotResolver:
                 self.ambiguous = True
                 self.ambiguous_choices += 1
                 self.ambiguous_at = np.array(pos[best], dtype=float)
+                self.ambiguous_since = None
             elif self.ambiguous:
                 # a clear decision on a doubtful track proves nothing by itself (the
                 # prediction came from that track): the confirmation restarts from it
                 self.ambiguous_at = np.array(pos[best], dtype=float)
+                self.ambiguous_since = None
             new = tuple(int(v) for v in shifts[best])
             if new != self.shift:
                 self.shift = new

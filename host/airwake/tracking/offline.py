@@ -33,7 +33,7 @@ def track_streams(streams: Mapping, config: PoseEkfConfig | None = None,
                   smooth: bool = False) -> PoseTrack:
     """Run the pose EKF over the marker IMU and LOSA peaks of one recording, from the
     first `marker_attitude` row in tracking mode; `smooth` returns the RTS-smoothed
-    states instead (`smoother.rts_smooth`; then the `losa_*` fields are empty).
+    states instead (`smoother.rts_smooth`), with the forward filter's `losa_*` outcomes.
     Missing streams or no calibrated row raise `TrackingError` naming them."""
     missing = [k for k in (MARKER_IMU, LOSA_PEAKS, MARKER_ATTITUDE)
                if k not in streams or len(streams[k]) == 0]
@@ -77,4 +77,6 @@ def track_streams(streams: Mapping, config: PoseEkfConfig | None = None,
                          resolver=SlotResolver())
     if not smooth:
         return track
-    return dataclasses.replace(rts_smooth(ekf), unresolved_t_s=track.unresolved_t_s)
+    return dataclasses.replace(rts_smooth(ekf), unresolved_t_s=track.unresolved_t_s,
+                               losa_t_s=track.losa_t_s, losa_outcome=track.losa_outcome,
+                               losa_nis=track.losa_nis)

@@ -46,6 +46,19 @@ an update with NIS above `chi2.ppf(gate_probability, 3)` is rejected. When no up
 has been accepted for `dropout_s` (LOSA dropout), the gate widens by
 `reacquire_gate_scale`; after `max_rejections` consecutive rejections in a dropout the
 position is re-acquired from the measurement (velocity and position covariance reset).
+
+Lost: dead reckoning on the IMU alone drifts metres within seconds and, with an attitude
+or accelerometer-bias error, without bound (a SIL hall flight integrated 100 m/s). Once
+in a dropout the filter's own position sigma exceeds `lost_position_sigma_m` (its
+prediction can no longer tell the LOSA slots apart, `losa.SlotResolver`), or after
+`coast_s` without an accepted update whatever P says, the filter is lost until the next
+accepted update: it stops integrating eq 3.8 — the position is held where the coasting
+left it, the velocity is zero — and their errors are re-drawn each step as independent
+N(0, `lost_position_sigma_m`^2), N(0, `lost_velocity_sigma_m_s`^2) (F's position and
+velocity rows zero, Q's position and velocity entries those variances), so P stays
+bounded and the RTS smoother carries nothing across the rest of the gap. Attitude and
+biases keep propagating (the gyro keeps the attitude). The next LOSA frame re-acquires
+through the widened gate.
 Time: every call carries a host-timeline time; LOSA frames later than the last IMU
 sample are predicted to (prediction only), frames up to `max_lag_s` older are applied
 with the velocity-corrected model h = p - v lag + R l, older ones are rejected.
@@ -125,6 +138,16 @@ class PoseEkfConfig:
     reacquire_gate_scale: float = 25.0
     max_rejections: int = 20
     max_lag_s: float = 0.05
+    # lost once the position sigma passes lost_position_sigma_m in a dropout, or after
+    # coast_s without an accepted update: position held, velocity zero, their
+    # covariance fixed at these sigmas (module doc)
+    coast_s: float = 10.0
+    lost_position_sigma_m: float = 1.0
+    lost_velocity_sigma_m_s: float = 1.0
+    # an ambiguous LOSA slot choice is confirmed only by motion the filter explains with
+    # its position sigma below this (`settled()`): right after a re-acquisition its wide
+    # covariance would take a wrong choice's motion as well
+    settled_position_sigma_m: float = 0.05
 
     def __post_init__(self) -> None:
         g = np.asarray(self.gravity_ref_m_s2, dtype=float)
@@ -138,7 +161,9 @@ class PoseEkfConfig:
         for name in ("gyro_noise_rad_s_rthz", "accel_noise_m_s2_rthz",
                      "initial_position_sigma_m", "initial_velocity_sigma_m_s",
                      "initial_attitude_sigma_rad", "initial_gyro_bias_sigma_rad_s",
-                     "initial_accel_bias_sigma_m_s2", "dropout_s", "reacquire_gate_scale"):
+                     "initial_accel_bias_sigma_m_s2", "dropout_s", "reacquire_gate_scale",
+                     "coast_s", "lost_position_sigma_m", "lost_velocity_sigma_m_s",
+                     "settled_position_sigma_m"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise TrackingError(f"PoseEkfConfig.{name} = {value!r}: must be > 0")
@@ -191,6 +216,7 @@ class _Counters:
     gated: int = 0
     reacquired: int = 0
     late: int = 0
+    lost: int = 0  # times the filter gave up coasting (module doc)
 
 
 class PoseEkf:
@@ -237,6 +263,7 @@ class PoseEkf:
         self._last_imu: tuple[np.ndarray, np.ndarray] | None = None
         self._last_accept_s = self.t_s
         self._rejections = 0
+        self._lost = False
         self.counters = _Counters()
         # For the RTS smoother (airwake.tracking.smoother): per propagation step the
         # posterior before it, F, the prior after it, P of both, its time and whether an
@@ -282,18 +309,44 @@ class PoseEkf:
         return (self.pos.copy(), self.vel.copy(), self.quat.copy(), self.gyro_bias.copy(),
                 self.accel_bias.copy())
 
+    @property
+    def lost(self) -> bool:
+        """Coasting gave up (module doc): position held, velocity zero, until the next
+        accepted update."""
+        return self._lost
+
+    def settled(self) -> bool:
+        """The position sigma is below `settled_position_sigma_m` on every axis: an
+        accepted update now says the measurement fits, not that P was wide."""
+        return float(np.max(np.diag(self.kf.P)[P_])) < self.config.settled_position_sigma_m ** 2
+
+    def _becomes_lost(self) -> bool:
+        c = self.config
+        since = self.t_s - self._last_accept_s
+        if since > c.coast_s:
+            return True
+        return since > c.dropout_s and float(np.max(np.diag(self.kf.P)[P_])) > (
+            c.lost_position_sigma_m ** 2)
+
     def _propagate(self, dt: float, gyro: np.ndarray, accel: np.ndarray,
                    imu: bool = False) -> None:
         if self.history is not None:
             post, p_post = self.nominal(), self.kf.P.copy()
+        if not self._lost and self._becomes_lost():
+            self._lost = True
+            self.counters.lost += 1
+        lost = self._lost
         w = gyro - self.gyro_bias
         f = accel - self.accel_bias
         r = quat_to_matrix(self.quat)
         rf = r @ f
-        # eq 3.7 in the inertial frame, eq 3.8
-        a = rf + self.gravity
-        self.pos += self.vel * dt + 0.5 * dt * dt * a
-        self.vel += a * dt
+        if lost:
+            self.vel[:] = 0.0
+        else:
+            # eq 3.7 in the inertial frame, eq 3.8
+            a = rf + self.gravity
+            self.pos += self.vel * dt + 0.5 * dt * dt * a
+            self.vel += a * dt
         # eq 3.9, exact for a constant rate over dt
         dq = quat_exp(w * dt)
         self.quat = quat_multiply(self.quat, dq)
@@ -305,8 +358,14 @@ class PoseEkf:
         F[V_, BA] = -r * dt
         F[TH, TH] = quat_to_matrix(dq).T
         F[TH, BG] = -_I3 * dt
+        Q = np.diag(self._q_density * dt)
+        if lost:  # position and velocity errors independent of the past, fixed variance
+            F = F.copy()
+            F[:6, :] = 0.0
+            Q[P_, P_] = _I3 * self.config.lost_position_sigma_m ** 2
+            Q[V_, V_] = _I3 * self.config.lost_velocity_sigma_m_s ** 2
         # eq 3.13 (x stays zero: F 0 = 0)
-        self.kf.predict(F=F, Q=np.diag(self._q_density * dt))
+        self.kf.predict(F=F, Q=Q)
         self.t_s += dt
         self.counters.predictions += 1
         if self.history is not None:
@@ -381,6 +440,7 @@ class PoseEkf:
         self._inject_and_reset()
         self._rejections = 0
         self._last_accept_s = max(self._last_accept_s, float(t_s))
+        self._lost = False
         self.counters.accepted += 1
         return UpdateResult(True, nis, gate, "accepted")
 
@@ -412,6 +472,7 @@ class PoseEkf:
         P[V_, V_] = _I3 * c.initial_velocity_sigma_m_s**2
         self._rejections = 0
         self._last_accept_s = float(t_s)
+        self._lost = False
         self.counters.reacquired += 1
 
 
@@ -462,7 +523,7 @@ def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_p
                     pk = (losa_peaks[0][j], losa_peaks[1][j], losa_peaks[2][j])
                     if ekf.in_dropout(losa_t[j]):
                         z = resolver.position(*pk, choose=lambda c, t=losa_t[j], a=arm:
-                                              ekf.candidate_nis(t, c, a, R))
+                                              ekf.candidate_nis(t, c, a, R), lost=ekf.lost)
                     elif any(resolver.shift):
                         z = resolver.position(*pk)
                 if z is not None:
@@ -470,7 +531,8 @@ def run_pose_ekf(ekf: PoseEkf, imu_t_s, gyro_rad_s, accel_m_s2, losa_t_s, losa_p
                     outcome[j], nis[j] = res.outcome, res.nis
                     if resolver is not None:
                         unresolved[j] = resolver.ambiguous
-                        resolver.confirm(z, res.outcome == "accepted")
+                        resolver.confirm(z, res.outcome == "accepted" and ekf.settled(),
+                                         losa_t[j])
             j += 1
         if i == n:
             break

@@ -19,6 +19,15 @@ def _floats(text: str, n: int, name: str):
     return vals
 
 
+def _reads() -> tuple[str, ...]:
+    """The columns the map reads: the anemometer and either pose source."""
+    from airwake.windmap.compensate import ANEMOMETER, POSE_SOURCES
+
+    return (*ANEMOMETER, "anemo_valid", "marker_valid",
+            *(c for src in POSE_SOURCES.values() for k in ("pos", "vel", "att", "rates")
+              for c in src[k]))
+
+
 def load_input(path: str):
     """(df, metadata) of a flight table, or of a recording exported on the fly."""
     from pathlib import Path
@@ -34,7 +43,7 @@ def load_input(path: str):
         return _checked_export(p, export_recording(open_recording(p)))
     if not p.exists():
         raise WindMapError(f"{p}: no such flight table or recording")
-    return load_flight_table(p, required=("t_s",))
+    return load_flight_table(p, ("t_s",), _reads())
 
 
 def _checked_export(path, built):
