@@ -145,15 +145,17 @@ def test_ship_pose_and_transforms_equal_the_euler_composition():
     assert np.max(np.abs(ship.ship_to_ned(t, want) - p)) < 1e-11
 
 
-def test_turbulence_sampling_is_the_numpy_trilinear_exactly():
-    # Negative coordinates, many boxes away, and points on grid nodes (f = 0 exactly).
+def test_turbulence_sampling_is_the_numpy_trilinear():
+    # Negative coordinates, many boxes away, and points on grid nodes (f = 0 exactly). To
+    # rounding: the compiled loop may fuse a multiply-add where numpy rounds twice (a clean
+    # clone's build differed from the reference in the last bit).
     box = FrozenTurbulence(TurbulenceConfig(**SMALL_BOX), np.random.default_rng(0))
     rng = np.random.default_rng(1)
     p = rng.uniform(-500.0, 500.0, (3000, 3))
     p[:300] = np.round(p[:300] / 0.25) * 0.25
     t = rng.uniform(0.0, 1000.0, 3000)
-    assert np.array_equal(box.sample(p), ref.sample(box, p))
-    assert np.array_equal(box.advected(p, t, 3.7), ref.advected(box, p, t, 3.7))
+    assert np.max(np.abs(box.sample(p) - ref.sample(box, p))) < 1e-12
+    assert np.max(np.abs(box.advected(p, t, 3.7) - ref.advected(box, p, t, 3.7))) < 1e-12
 
 
 def _close(a, b, rel=8e-16, abs_=1e-300):
