@@ -15,6 +15,7 @@ Model-generated flights for tests and benches: `airwake.calibrate.synthetic`.
 
 from __future__ import annotations
 
+import math
 import os
 from typing import TYPE_CHECKING
 
@@ -24,7 +25,7 @@ from airwake.lazy import lazy_exports
 if TYPE_CHECKING:
     from airwake.calibrate.fit import FitResult
 
-__all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight"]
+__all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight", "model_error_std"]
 # numpy and the fit load on first use: `airwake --help` imports this package
 __getattr__, __dir__ = lazy_exports(__name__, {"FitResult": "airwake.calibrate.fit"})
 
@@ -111,6 +112,28 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
                        held=list(held), front_end=front, envelope=envelope,
                        wind_trust=wind_trust(envelope))
     return result
+
+
+def model_error_std(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 2.0,
+                    warmup_s: float = 1.0):
+    """(6,) the model's error per channel on a still-air flight, after the wind
+    estimator's front end (`cutoff_hz` low-pass) and over the same windows a calibration
+    scores: what `airwake calibrate` writes as `[calibration] model_error_std` for the
+    model it fitted, here for any model (one `airwake model add` made, say), so the wind
+    estimator's noise floor always belongs to the model it runs."""
+    from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
+    from airwake.heli import load_model
+
+    model = load_model(model)
+    data = FlightData.from_flight(model, load_flight(flight))
+    if cutoff_hz:
+        data, _ = _front_end(data, model, float(cutoff_hz), None)
+    pred = WindowedPredictor(model, data, make_windows(data, window_s, warmup_s))
+    rms = pred.channel_rms(model.parameter_vector()[None])[0]
+    if not all(map(math.isfinite, rms)):
+        raise CalibrationError(f"{getattr(flight, 'path', flight)}: the model's prediction "
+                               "is not finite on this flight; no model error to report")
+    return rms
 
 
 REWEIGHT_WINDOWS = 16

@@ -83,6 +83,27 @@ def _register_plugin(plugin) -> list[str]:
         raise DiscrepancyError(str(exc)) from None
 
 
+def _calibration_after(start_spec, new_model, effect: str, flight, wind) -> dict:
+    """The new spec's [calibration] table: the start spec's, with the effects added since
+    and `model_error_std` re-measured for the new model on the still-air flight it was
+    fitted on (what the wind estimator takes as its channel-noise floor: the floor of
+    the model it runs, not of the model before the effect). With a windy flight and its
+    wind as input the floor is not re-measured: the start spec's is kept (it can only be
+    larger), or none is written."""
+    from airwake.calibrate import CalibrationError, model_error_std
+    from airwake.heli import spec_calibration
+
+    table = dict(spec_calibration(start_spec) or {})
+    table["added_effects"] = [*table.get("added_effects", []), effect]
+    if wind is None and not isinstance(flight, np.ndarray):
+        try:
+            table["model_error_std"] = [float(v) for v in model_error_std(new_model, flight)]
+            table["model_error_flight"] = str(getattr(flight, "path", flight))
+        except CalibrationError as exc:
+            raise DiscrepancyError(f"the model with {effect}: {exc}") from None
+    return table
+
+
 def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                settings: AnalysisSettings | None = None, analysis: Analysis | None = None,
                max_nfev: int = 30, name: str = "", progress=None, wind=None) -> AddResult:
@@ -96,6 +117,7 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
         raise DiscrepancyError(f"{WIND_CANDIDATE} is not a model effect: the wind is an input "
                                f"of the model, not part of it; {ADVICE}")
     settings = settings or AnalysisSettings()
+    start_spec = model
     model = load_model(model)
     plugin_names = _register_plugin(plugin) if plugin is not None else []
     if plugin is not None and effect not in plugin_names:
@@ -148,6 +170,8 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
     if out is not None:
         written = save_spec(fr.model, out, name=name or Path(out).stem,
                             description=f"{', '.join(model.effect_names)} + "
-                            f"{effect} fitted on {an.flight.name}")
+                            f"{effect} fitted on {an.flight.name}",
+                            calibration=_calibration_after(start_spec, fr.model, effect,
+                                                           flight, wind))
     return AddResult(effect, fr.model, fr, before, after, written, None if plugin is None
                      else str(plugin))

@@ -19,11 +19,13 @@ State of sample k (N = m + 12):
 on the front end's low-passed, decimated samples (`airwake.estimate.prefilter`).
 
 Each step is linearised at a point s_bar (Jacobians by forward differences: one batched
-model evaluation of 1 + m + 6 rows gives f_h or z_hat and their derivatives in h and w),
-and the linear system is discretised over the step (one matrix exponential of the half
-step gives the transition Phi and the exponential Rosenbrock-Euler step for the mean,
-exact for the local affine dynamics, so the stiff rotor modes need no small steps;
-Simpson's rule the process covariance Q):
+model evaluation of 1 + m + 6 rows gives f_h or z_hat and their derivatives in h and w;
+two more rows give f_h's slope and curvature in time as the measured body motion and
+inputs move over the step), and the linear system is discretised over the step (one
+matrix exponential of the half step gives the transition Phi and the exponential
+Rosenbrock-Euler step for the mean with the inputs held to second order, exact for the
+local affine dynamics, so the stiff rotor modes need no small steps and a state faster
+than the step follows the inputs to the sample; Simpson's rule the process covariance Q):
 
     s_k^- = s_{k-1} + int_0^dt e^{A r} dr F(s_{k-1}),   P_k^- = Phi P_{k-1} Phi^T + Q
     K = P^- H^T (H P^- H^T + R)^-1,  s_k = s_k^- + K (z_k - z_hat_k),
@@ -56,7 +58,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import expm
+from scipy.linalg import cho_factor, cho_solve, expm
 
 from airwake.calibrate.hidden import (
     HiddenPropagator,
@@ -75,8 +77,38 @@ SIGMA_FLOOR = np.array([0.02, 0.02, 0.02, 0.01, 0.01, 0.01])
 MEAN_WALK_FLOOR = 1e-3
 NOISE_FLOOR = 1e-4
 FD_STEP_H = 1e-6
+DEAD_VARIANCE = 1e-20  # of the largest predicted variance: a state nothing uncertain reaches
 FD_STEP_W = 1e-4
+FD_STEP_T = 1e-4  # s: the directional difference along the body motion and inputs
 LOG_2PI = float(np.log(2.0 * np.pi))
+
+def _smoother_gain(cross: np.ndarray, pred: np.ndarray) -> np.ndarray:
+    """The RTS gain G = cross pred^-1, solved in the predicted covariance's own scale.
+
+    A model's hidden states span many orders of magnitude of variance (the wind ~1, the
+    flapping ~1e-9 rad^2), and a state the inputs alone drive (a servo lag's: nothing
+    uncertain reaches it) has none at all, so pred is singular. Such states (variance
+    below DEAD_VARIANCE of the largest) get no smoothing gain (there is nothing to
+    correct in them); the rest is solved as D C D, D = sqrt(diag pred), C its correlation
+    matrix (Cholesky; the pseudo-inverse where C is not positive definite)."""
+    dg = np.diag(pred)
+    live = dg > DEAD_VARIANCE * max(float(dg.max()), 0.0)
+    if not live.any():
+        return np.zeros_like(cross)
+    d = np.sqrt(dg[live])
+    corr = pred[np.ix_(live, live)] / np.outer(d, d)
+    rhs = (cross[:, live] / d).T
+    try:
+        chol = cho_factor(corr, lower=True, check_finite=False)
+        g_live = cho_solve(chol, rhs, check_finite=False).T
+        if not np.all(np.isfinite(g_live)):
+            raise np.linalg.LinAlgError("non-finite gain")
+    except np.linalg.LinAlgError:
+        g_live = rhs.T @ np.linalg.pinv(corr, rcond=1e-12, hermitian=True)
+    g = np.zeros_like(cross)
+    g[:, live] = g_live / d
+    return g
+
 
 @dataclass
 class SmootherResult:
@@ -100,7 +132,9 @@ class SmootherResult:
 @dataclass
 class _Lin:
     """Linearisation of one run: transition k-1 -> k at point tp[k] (row 0 unused):
-    f0 (n, m) f_h, jt (n, m, m+6) [df/dh | df/dw]; measurement at point mp[k]: z0 (n, 6),
+    f0 (n, m) f_h, jt (n, m, m+6) [df/dh | df/dw], fr (n, 2, m) f_h's slope and half
+curvature in time over the step as the measured body motion and the inputs move (the
+inputs held to second order); measurement at point mp[k]: z0 (n, 6),
     jz (n, 6, m+6)."""
 
     tp: np.ndarray
@@ -109,6 +143,11 @@ class _Lin:
     mp: np.ndarray
     z0: np.ndarray
     jz: np.ndarray
+    fr: np.ndarray = None  # (n, 2, m) f_h's slope and half curvature over the step
+
+    def __post_init__(self) -> None:
+        if self.fr is None:
+            self.fr = np.zeros((self.f0.shape[0], 2, self.f0.shape[1]))
 
 
 @dataclass
@@ -154,6 +193,9 @@ class WindSmoother:
         self.learn = tuple(learn)
         data = pre.data
         self.hid = hidden_indices(model)
+        # attitude angles: their step differences are wrapped (yaw across +-pi)
+        self._angles = np.array([i for i, nm in enumerate(model.state_names)
+                                 if nm.endswith(("roll_rad", "pitch_rad", "yaw_rad"))], int)
         self.m = self.hid.size
         m = self.m
         self.mu, self.xi = slice(m, m + 6), slice(m + 6, m + 12)
@@ -178,13 +220,21 @@ class WindSmoother:
         self.evaluations = 0
 
     # -- model evaluations ------------------------------------------------------------
-    def _jacobian_rows(self, x_body, u, env_row, h, w):
+    def _jacobian_rows(self, x_body, u, env_row, h, w, motion=None):
         """f_h (m,), z (6,) at (h, w) and their derivatives [d/dh | d/dw] (m, m+6),
-        (6, m+6) from one batched evaluation of 1 + m + 6 rows (forward differences)."""
+        (6, m+6) from one batched evaluation of 1 + m + 6 rows (forward differences);
+        with `motion` = ((dx, du), ...) directions of the body state and the inputs, one
+        row more each, and f_h's directional derivatives along them (len(motion), m) (a
+        forward difference of FD_STEP_T along each) as a fifth value."""
         m = self.m
-        rows = 1 + m + 6
+        extra = 0 if motion is None else len(motion)
+        rows = 1 + m + 6 + extra
         eps_h = FD_STEP_H * np.maximum(1.0, np.abs(h))
         x = np.repeat(x_body[None], rows, 0)
+        uu = np.repeat(u[None], rows, 0)
+        for i, (dx, du) in enumerate(motion or ()):
+            x[rows - extra + i] += FD_STEP_T * dx
+            uu[rows - extra + i] += FD_STEP_T * du
         hh = np.repeat(h[None], rows, 0)
         hh[1 + np.arange(m), np.arange(m)] += eps_h
         x[:, self.hid] = hh
@@ -192,20 +242,41 @@ class WindSmoother:
         ww[1 + m + np.arange(6), np.arange(6)] += FD_STEP_W
         env = {k: np.full(rows, v) for k, v in env_row.items()}
         with np.errstate(all="ignore"):
-            xd, z = evaluate_rates_and_measurement(self.model, x, u[None], ww, env, None)
+            xd, z = evaluate_rates_and_measurement(self.model, x, uu, ww, env, None)
         self.evaluations += rows
         f = xd[:, self.hid]
         steps = np.concatenate([eps_h, np.full(6, FD_STEP_W)])
-        jf = ((f[1:] - f[0]) / steps[:, None]).T
-        jz = ((z[1:] - z[0]) / steps[:, None]).T
-        return f[0], z[0], jf, jz
+        n_fd = 1 + m + 6
+        jf = ((f[1:n_fd] - f[0]) / steps[:, None]).T
+        jz = ((z[1:n_fd] - z[0]) / steps[:, None]).T
+        if motion is None:
+            return f[0], z[0], jf, jz
+        return f[0], z[0], jf, jz, (f[n_fd:] - f[0]) / FD_STEP_T
 
     def _transition_lin(self, k: int, point: np.ndarray):
+        """f_h, [df/dh | df/dw] at the step's midpoint, and f_h's slope and half
+        curvature in time over the step (2, m) as the measured body motion and inputs
+        move: the parabola through sample k-1, the midpoint and sample k,
+            v(r) = v_mid + v' (r - dt/2) + v''/2 (r - dt/2)^2,
+            v' = (v_k - v_{k-1}) / dt,  v'' = 4 (v_k - 2 v_mid + v_{k-1}) / dt^2,
+        so a state faster than the step (a servo lag of a few ms) follows the inputs to
+        the sample, not to the midpoint."""
         d = self.pre
+        data = d.data
         env = {n: v[k] for n, v in d.mid_env.items()}
         w = point[self.mu] + point[self.xi]
-        f, _, jf, _ = self._jacobian_rows(d.mid_x[k], d.mid_u[k], env, point[:self.m], w)
-        return f, jf
+        dt = data.t[k] - data.t[k - 1]
+        ahead = data.x[k] - d.mid_x[k]
+        back = data.x[k - 1] - d.mid_x[k]
+        for v in (ahead, back):
+            v[self._angles] = np.angle(np.exp(1j * v[self._angles]))
+        u_ahead = data.u[k] - d.mid_u[k]
+        u_back = data.u[k - 1] - d.mid_u[k]
+        motion = (((ahead - back) / dt, (u_ahead - u_back) / dt),
+                  (2.0 * (ahead + back) / dt**2, 2.0 * (u_ahead + u_back) / dt**2))
+        f, _, jf, _, fr = self._jacobian_rows(d.mid_x[k], d.mid_u[k], env, point[:self.m],
+                                              w, motion)
+        return f, jf, fr
 
     def _measurement_lin(self, k: int, point: np.ndarray):
         d = self.pre.data
@@ -277,23 +348,35 @@ class WindSmoother:
         drift[self.xi] = -s[self.xi] / prior.tau_s
         return a, drift
 
-    def _discretise(self, a, drift, qc, dt):
+    def _discretise(self, a, drift, qc, dt, ramp=None):
         """Phi = e^{A dt}, Q = int_0^dt e^{A r} Qc e^{A^T r} dr and the mean step
-        int_0^dt e^{A r} dr F (exponential Rosenbrock-Euler, exact for the affine local
-        system) from one matrix exponential of the half step,
-            e^{[[A, F], [0, 0]] dt/2} = [[E_h, phi_h F], [0, 1]],
-        E = E_h^2, step = phi_h F + E_h phi_h F, and Q by Simpson's rule over the step,
+        int_0^dt e^{A (dt-r)} F(r) dr with F(r) = F + G1 (r - h) + G2 (r - h)^2, h = dt/2
+        (exponential Rosenbrock-Euler with the inputs held to second order: F the drift
+        at the midpoint, `ramp` = (G1, G2) for the rotor states' rows, exact for the local
+        affine system) from one matrix exponential of the half step over the states
+        (d, a = 1, b = r, c = r^2/2):
+            d' = A d + (F - G1 h + G2 h^2) a + (G1 - 2 h G2) b + 2 G2 c,  b' = a,  c' = b;
+        E_h = e^{M h}, Phi = E_h[d,d]^2, step = E_h[d,d] E_h[d,a] + (E_h^2)[d,a] rest
+        (a, b, c after the half step: 1, h, h^2/2); and Q by Simpson's rule over the step,
         Q = dt/6 (Qc + 4 E_h Qc E_h^T + E Qc E^T) (the noise enters the wind states only;
         against Van Loan's exact Q the difference is below 1 % of the wind block)."""
-        n = self.n_state
-        aug = np.zeros((n + 1, n + 1))
+        n, m = self.n_state, self.m
+        h = 0.5 * dt
+        aug = np.zeros((n + 3, n + 3))
         aug[:n, :n] = a
         aug[:n, n] = drift
-        e = expm(aug * (0.5 * dt))
+        if ramp is not None:
+            g1, g2 = ramp
+            aug[:m, n] += -g1 * h + g2 * h * h
+            aug[:m, n + 1] = g1 - 2.0 * h * g2
+            aug[:m, n + 2] = 2.0 * g2
+        aug[n + 1, n] = 1.0
+        aug[n + 2, n + 1] = 1.0
+        e = expm(aug * h)
         e_h = e[:n, :n]
-        half = e[:n, n]
         phi = e_h @ e_h
-        step = half + e_h @ half
+        # the second half starts from (a, b, c) = (1, h, h^2/2)
+        step = e[:n, n] + e_h @ e[:n, n] + e[:n, n + 1] * h + e[:n, n + 2] * (0.5 * h * h)
         w = slice(self.m, n)
         qw = qc[w]
         q = (e_h[:, w] * qw) @ e_h[:, w].T
@@ -327,9 +410,10 @@ class WindSmoother:
             if j > 0:
                 if online:
                     lin.tp[j] = s
-                    lin.f0[j], lin.jt[j] = self._transition_lin(k, s)
+                    lin.f0[j], lin.jt[j], lin.fr[j] = self._transition_lin(k, s)
                 a, drift = self._system(lin.f0[j], lin.jt[j], lin.tp[j], s, prior)
-                phi, q, step = self._discretise(a, drift, qc, d.t[k] - d.t[k - 1])
+                phi, q, step = self._discretise(a, drift, qc, d.t[k] - d.t[k - 1],
+                                                lin.fr[j])
                 s = s + step
                 p = phi @ p @ phi.T + q
                 phi_all[j] = phi
@@ -367,10 +451,7 @@ class WindSmoother:
         for k in range(n - 2, -1, -1):
             pred = ps.pp[k + 1]
             cross = ps.pf[k] @ ps.phi[k + 1].T
-            try:
-                g = np.linalg.solve(pred, cross.T).T
-            except np.linalg.LinAlgError:
-                g = cross @ np.linalg.pinv(pred)
+            g = _smoother_gain(cross, pred)
             ms[k] = ps.mf[k] + g @ (ms[k + 1] - ps.mp[k + 1])
             pk = ps.pf[k] + g @ (pss[k + 1] - pred) @ g.T
             pss[k] = 0.5 * (pk + pk.T)
@@ -460,11 +541,37 @@ class WindSmoother:
         for j, k in enumerate(idx):
             if j > 0:
                 lin.tp[j] = old.ms[j - 1]
-                lin.f0[j], lin.jt[j] = self._transition_lin(k, old.ms[j - 1])
+                lin.f0[j], lin.jt[j], lin.fr[j] = self._transition_lin(k, old.ms[j - 1])
             lin.z0[j], lin.jz[j] = self._measurement_lin(k, old.ms[j])
         return lin
 
     # -- the Cramer-Rao bound ------------------------------------------------------
+    def open_loop(self, wind: np.ndarray) -> np.ndarray:
+        """(n, 6) the model's prediction of the measured channels at every kept sample,
+        its rotor states propagated by the smoother's own step from quasi-steady at each
+        run's start, through the wind trajectory `wind` (n, 6), with no measurement
+        update: how well the step integrates the model, apart from the filter."""
+        m, n_s = self.m, self.n_state
+        d = self.pre.data
+        wind = np.asarray(wind, dtype=float)
+        out = np.full((d.t.size, 6), np.nan)
+        with single_blas_thread():
+            for run in d.runs:
+                idx = np.arange(run.start, run.stop)
+                point, _ = self._initial(idx[0], self.prior, wind[idx[0]])
+                for k in idx:
+                    if k > idx[0]:
+                        f0, jt, fr = self._transition_lin(k, point)
+                        a, drift = self._system(f0, jt, point, point, self.prior)
+                        _, _, step = self._discretise(a, drift, np.zeros(n_s),
+                                                      d.t[k] - d.t[k - 1], fr)
+                        point = point.copy()
+                        point[:m] += step[:m]
+                    point[self.mu] = wind[k]
+                    point[self.xi] = 0.0
+                    out[k], _ = self._measurement_lin(k, point)
+        return out
+
     def bound(self, wind: np.ndarray, prior: WindPrior, noise_std) -> np.ndarray:
         """(n, 6) posterior Cramer-Rao lower bound (std) of each wind component at every
         kept sample, for the wind trajectory `wind` (n, 6) (the truth, or an estimate),
@@ -493,10 +600,10 @@ class WindSmoother:
                 for j, k in enumerate(idx):
                     if j > 0:
                         lin.tp[j] = point
-                        lin.f0[j], lin.jt[j] = self._transition_lin(k, point)
+                        lin.f0[j], lin.jt[j], lin.fr[j] = self._transition_lin(k, point)
                         a, drift = self._system(lin.f0[j], lin.jt[j], point, point, prior)
                         _, _, step = self._discretise(a, drift, np.zeros(n_s),
-                                                      d.t[k] - d.t[k - 1])
+                                                      d.t[k] - d.t[k - 1], lin.fr[j])
                         point = point.copy()
                         point[:m] += step[:m]
                         point[self.mu] = wind[k]
