@@ -720,6 +720,15 @@ def message_tables(result: SimResult) -> dict:
             h_accuracy_mm=np.round(r.h_accuracy_m * 1000).astype(np.uint16),
             v_accuracy_mm=np.round(r.v_accuracy_m * 1000).astype(np.uint16),
             num_sats=r.n_sats.astype(np.uint8), fix_mode=r.fix_mode.astype(np.uint8))
+        # the receiver's Doppler velocity (SBP MSG_VEL_NED, flags 1 = measured Doppler)
+        # with the accuracy its stream reports (RtkModel.stream)
+        vel_sigma = np.asarray(result.devices["rtk"].config.velocity_sigma_m_s, float)
+        out["rover/rtk_vel"] = message_table(
+            "rtk_vel", r.t_s, gps_tow_ms=r.tow_ms.astype(np.uint32),
+            vel_ned_mm_s=np.round(r.vel_ned_m_s * 1000.0).astype(np.int32),
+            h_accuracy_mm_s=np.uint16(round(float(np.hypot(*vel_sigma[:2])) * 1000.0)),
+            v_accuracy_mm_s=np.uint16(round(float(vel_sigma[2]) * 1000.0)),
+            num_sats=r.n_sats.astype(np.uint8), fix_mode=1)
     if "base_vn200" in s:
         out["base/ins"] = _ins_table(s["base_vn200"])
     return out

@@ -27,6 +27,19 @@ def print_score(score: dict, stream=None) -> None:
               + (f"{ratio:>7.2f}\n" if ratio is not None else f"{'-':>7}\n"))
 
 
+def _ins_line(meta: dict) -> str:
+    std, source = meta["ins_velocity_std_m_s"], meta["ins_velocity_std_source"]
+    detail = meta.get("ins_velocity_error") or {}
+    if source == "gnss":
+        return (f"INS velocity error {std:.3f} m/s, measured against the GNSS velocity over "
+                f"{detail.get('seconds', 0):.0f} s (receiver lag {detail.get('gnss_lag_s', 0):.2f}"
+                " s): added to the mean-flow std")
+    if source == "user":
+        return f"INS velocity error {std:.3f} m/s (--ins-velocity-std): added to the mean-flow std"
+    return (f"INS velocity error {std:.3f} m/s from the VN-200 datasheet: {detail.get('why')}; "
+            f"{detail.get('advice')}")
+
+
 def _handle(args: argparse.Namespace) -> int:
     from airwake.calibrate import load_flight
     from airwake.estimate import estimate_wind, score_wind, write_wind
@@ -63,6 +76,8 @@ def _handle(args: argparse.Namespace) -> int:
     else:
         report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"])
     report["calibration_envelope"] = est.metadata.get("calibration_envelope")
+    report["ins_velocity_std_m_s"] = est.metadata["ins_velocity_std_m_s"]
+    report["ins_velocity_std_source"] = est.metadata["ins_velocity_std_source"]
     if args.score:
         report["score"] = score_wind(est.df, ft.df, args.burn_in_s)
         if args.method == "smoother":
@@ -90,6 +105,7 @@ def _handle(args: argparse.Namespace) -> int:
                 + " ".join(f"{v:.2g}" for v in pr["tau_s"]) + " s; channel noise "
                 + " ".join(f"{v:.2g}" for v in report["noise_std"]))
         print(line)
+        print(_ins_line(est.metadata))
         env = est.metadata.get("calibration_envelope")
         if env:
             inside = env["inside_fraction"]
@@ -154,9 +170,10 @@ def register(subparsers) -> None:
                    help="smoother passes (3: 2 relinearising; the prior re-learnt after each)")
     p.add_argument("--airspeed-m-s", type=float, default=None,
                    help="typical airspeed for the prior's correlation times (3 m/s)")
-    p.add_argument("--ins-velocity-std", type=float, default=0.05,
-                   help="INS velocity error, 1 sigma (0.05 m/s, VN-200): added to the "
-                   "mean-flow std")
+    p.add_argument("--ins-velocity-std", type=float, default=None,
+                   help="INS velocity error, 1 sigma (m/s), added to the mean-flow std "
+                   "(default: measured on the flight against its GNSS velocity; the "
+                   "VN-200 datasheet's 0.05 m/s, said so, when it has none)")
     p.add_argument("--particles", type=int, default=2000, help="apf: particles (2000)")
     p.add_argument("--seed", type=int, default=0, help="apf: random seed (0)")
     p.add_argument("--sigma", type=float, default=0.5,

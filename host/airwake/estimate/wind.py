@@ -52,9 +52,10 @@ class WindEstimate:
 
 
 METHODS = ("smoother", "apf", "net")
-# VN-200 datasheet: velocity accuracy 0.05 m/s (1 sigma). The wind is the air velocity
-# over the ground, so the INS velocity error goes one to one into v (not into w).
-INS_VELOCITY_STD_M_S = 0.05
+# The wind is the air velocity over the ground, so the INS velocity error goes one to one
+# into v (not into w): measured on each flight against its GNSS velocity
+# (`airwake.estimate.ins_error`), or given by the user; the VN-200 datasheet's 0.05 m/s
+# only when the flight has no GNSS velocity, and the metadata says so.
 APF_RATE_HZ = 30.0
 # what a model that does not fly a flight raises (a plugin's own error, a singular rotor)
 MODEL_FAILURES = (ArithmeticError, ValueError, RuntimeError, TypeError, KeyError,
@@ -64,7 +65,7 @@ MODEL_FAILURES = (ArithmeticError, ValueError, RuntimeError, TypeError, KeyError
 def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   cutoff_hz: float | None = None, rate_hz: float | None = None,
                   em_passes: int | None = None, airspeed_m_s: float | None = None,
-                  ins_velocity_std: float = INS_VELOCITY_STD_M_S,
+                  ins_velocity_std: float | None = None,
                   n_particles: int = 2000, sigma: float = 0.5,
                   resampler: str = "systematic", ess_threshold: float | None = None,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
@@ -79,7 +80,10 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     given). Both read the front end's low-passed, decimated samples
     (`airwake.estimate.prefilter`: cutoff_hz 6, rate_hz 15 for the smoother and 30 for the
     APF; cutoff_hz=0 feeds the APF the raw flight as the reference did); "net": a direct
-    wind network (`net`: its .pt file or the loaded net; `model` unused) per flight sample."""
+    wind network (`net`: its .pt file or the loaded net; `model` unused) per flight sample.
+    ins_velocity_std: the INS velocity error (1 sigma, m/s) added to the mean-flow std;
+    None (default) measures it on the flight against its GNSS velocity
+    (`airwake.estimate.ins_error`)."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -88,16 +92,24 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
 
     if method not in METHODS:
         raise WindEstimationError(f"unknown method {method!r}; use one of {list(METHODS)}")
-    if not (np.isfinite(ins_velocity_std) and ins_velocity_std >= 0):
+    from airwake.estimate.ins_error import ins_velocity_error
+
+    if ins_velocity_std is not None and not (np.isfinite(ins_velocity_std)
+                                             and ins_velocity_std >= 0):
         raise WindEstimationError(
             f"--ins-velocity-std {ins_velocity_std!r}: must be a number >= 0")
     if (method == "net") != (net is not None):
         raise WindEstimationError("--method net needs --net WIND.pt (and --net needs "
                                   "--method net)")
-    if method == "net":
-        return _run_net(load_flight(flight), net, ins_velocity_std)
-    heli = load_model(model)
     ft = load_flight(flight)
+    ins = ins_velocity_error(getattr(ft, "df", ft), getattr(ft, "metadata", None) or {},
+                             ins_velocity_std)
+    ins_velocity_std = ins.std_m_s
+    if method == "net":
+        est = _run_net(ft, net, ins_velocity_std)
+        est.metadata.update(ins.to_dict())
+        return est
+    heli = load_model(model)
     try:
         data = FlightData.from_flight(heli, ft, channel_scale=channel_scale)
     except CalibrationError as exc:
@@ -108,7 +120,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         "flight": str(getattr(ft, "path", "") or ""),
         "model_spec": str(model) if not hasattr(model, "effects") else "<model>",
         "frame": "body axes at the main-rotor hub (eq 5.3)",
-        "ins_velocity_std_m_s": float(ins_velocity_std),
+        **ins.to_dict(),
         "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),
     }
     smoother = result = None

@@ -20,7 +20,10 @@ Output (docs/flight-table.md): one row per rover INS sample (150 Hz), columns
   rigging (`record.rigging`); `tail_servo_pwm_us` from rover `tail_servo`;
 - `rotor_speed_rad_s` from rover `rotor_speed`;
 - RTK: `rel_pos_n/e/d_m` (rover - base antenna), `rtk_fix` (0 none, 1 SPP/DGNSS, 2 float,
-  3 fixed) and `height_agl_m` = hub above the deck:
+  3 fixed) and `height_agl_m` = hub above the deck; the receiver's Doppler velocity
+  (rover `rtk_vel`, at its antenna) `gnss_vel_n/e/d_m_s` with its reported accuracy
+  `gnss_vel_h_acc_m_s`, `gnss_vel_v_acc_m_s` and `gnss_vel_valid` (what the wind
+  estimator measures the INS velocity error against, `airwake.estimate.ins_error`):
 
       height = h_base_antenna_above_deck - baseline_d - (R(att) r_antenna->hub)_d
 
@@ -81,6 +84,7 @@ PILOT_INPUTS = "base/pilot_inputs"
 ROTOR_SPEED = "rover/rotor_speed"
 TAIL_SERVO = "rover/tail_servo"
 RTK_BASELINE = "rover/rtk_baseline"
+RTK_VEL = "rover/rtk_vel"
 LOSA_PEAKS = "losa/losa_peaks"
 ANEMOMETER = "marker/anemometer"
 MARKER_IMU = "marker/imu"
@@ -89,7 +93,7 @@ REQUIRED_STREAMS = (ROVER_INS, PILOT_INPUTS, ROTOR_SPEED)
 # (about 5 nominal periods; the RTK at 10 Hz may skip an epoch or two).
 DEFAULT_MAX_GAP_S = {
     ROVER_INS: 0.05, BASE_INS: 0.05, PILOT_INPUTS: 0.1, ROTOR_SPEED: 0.05, TAIL_SERVO: 0.1,
-    RTK_BASELINE: 0.5, LOSA_PEAKS: 0.05, ANEMOMETER: 0.1,
+    RTK_BASELINE: 0.5, RTK_VEL: 0.5, LOSA_PEAKS: 0.05, ANEMOMETER: 0.1,
 }
 # SBP fix modes (rtk_baseline.fix_mode) -> the flight table's rtk_fix.
 RTK_FIX_FROM_SBP = {0: 0, 1: 1, 2: 1, 3: 2, 4: 3}
@@ -113,6 +117,29 @@ class MessageTable:
 
     def __len__(self) -> int:
         return len(self.t_s)
+
+
+# rtk_vel.fix_mode (SBP MSG_VEL_NED flags bits 0-2): a measured or computed Doppler
+# velocity; 0 invalid and 3 dead reckoning are not measurements
+GNSS_VELOCITY_MODES = (1, 2)
+
+
+def gnss_velocity_columns(table: MessageTable | None, t: np.ndarray, max_gap_s: float) -> dict:
+    """The GNSS receiver's velocity at the rows `t` (module docstring); {} without it."""
+    if table is None or not len(table):
+        return {}
+    mode = np.asarray(table.data["fix_mode"], dtype=np.int64) & 0x7
+    tv, rows = _sorted_unique(table, np.isin(mode, GNSS_VELOCITY_MODES))
+    if not tv.size:
+        return {}
+    vel = np.asarray(rows["vel_ned_mm_s"], dtype=float) * 1e-3
+    v = interp_columns(tv, vel, t)
+    return {"gnss_vel_n_m_s": v[:, 0], "gnss_vel_e_m_s": v[:, 1], "gnss_vel_d_m_s": v[:, 2],
+            "gnss_vel_h_acc_m_s": np.interp(t, tv, np.asarray(rows["h_accuracy_mm_s"],
+                                                              dtype=float) * 1e-3),
+            "gnss_vel_v_acc_m_s": np.interp(t, tv, np.asarray(rows["v_accuracy_mm_s"],
+                                                              dtype=float) * 1e-3),
+            "gnss_vel_valid": coverage(tv, t, max_gap_s).astype(float)}
 
 
 def message_table(name: str, t_s: np.ndarray, **fields) -> MessageTable:
@@ -444,6 +471,8 @@ def build_flight_table(streams: Mapping[str, MessageTable],
             # a DGNSS baseline is metres off vertically: the height is known only with a
             # carrier-phase (float or fixed RTK) solution
             height = np.where(rel_ok & (fix >= 2), h, np.inf)
+
+    cols.update(gnss_velocity_columns(streams.get(RTK_VEL), t, gap[RTK_VEL]))
 
     lp = streams.get(LOSA_PEAKS)
     if lp is not None and len(lp):
