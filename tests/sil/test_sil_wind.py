@@ -47,3 +47,20 @@ def test_sil_flight_map_matches_the_simulated_airwake(sil_ship, wind_baseline, t
     for name in ("u_m_s", "v_m_s", "w_m_s"):
         assert sc["field"][name]["rms"] <= 0.3, (name, sc["field"][name])
     assert np.isfinite(summary["reference_speed_m_s"]) and summary["frame"] == "ship"
+
+
+def test_the_ins_velocity_error_measured_through_the_boards_is_the_true_one(sil_ship):
+    """Against the GNSS velocity the rover forwards (rtk_vel, with the receiver's and the
+    link's latency): the measured INS error against the INS's true error on this flight
+    (its velocity minus the truth world's, the same 1 s averaging)."""
+    from airwake.estimate.ins_error import AVERAGE_S, _moving_mean, ins_velocity_error
+
+    df = sil_ship.df
+    got = ins_velocity_error(df, sil_ship.metadata)
+    assert got.source == "gnss", got.detail
+    assert 0.0 < got.detail["gnss_lag_s"] < 0.3
+    err = np.column_stack([df[f"vel_{a}_m_s"] - df[f"truth_vel_{a}_m_s"] for a in "uvw"])
+    dt = float(np.median(np.diff(df["t_s"])))
+    avg = _moving_mean(err, int(round(AVERAGE_S / dt)))
+    true_std = float(np.sqrt(np.nanmean(avg**2)))
+    assert got.std_m_s == pytest.approx(true_std, rel=0.35), (got.detail, true_std)

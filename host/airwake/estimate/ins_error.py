@@ -104,7 +104,7 @@ def measure_against_gnss(df, metadata: dict) -> dict | str:
     return {"std_m_s": float(np.sqrt(np.mean(var))),
             "std_ned_m_s": np.sqrt(var).round(4).tolist(),
             "mean_ned_m_s": np.mean(avg[ok], axis=0).round(4).tolist(),
-            "gnss_lag_s": round(lag, 3), "gnss_rate_hz": round(rate, 2),
+            "gnss_lag_s": round(float(lag), 3), "gnss_rate_hz": round(rate, 2),
             "gnss_noise_removed_m_s": np.sqrt(noise).round(4).tolist(),
             "seconds": round(float(ok.sum() * dt), 1), "rms_at_lag_m_s": round(ms, 4)}
 
@@ -171,5 +171,7 @@ def _receiver_rate_hz(t: np.ndarray, gnss: np.ndarray) -> float:
     if t.size < 3:
         return 1.0
     slope = np.diff(gnss, axis=0) / np.diff(t)[:, None]
-    kinks = np.any(np.abs(np.diff(slope, axis=0)) > 1e-9, axis=1).sum()
-    return float(max(kinks, 1) / max(t[-1] - t[0], 1e-9))
+    kink = np.any(np.abs(np.diff(slope, axis=0)) > 1e-9, axis=1)
+    # a receiver sample between two rows bends the line at both: count runs, not rows
+    knots = int(np.sum(kink[1:] & ~kink[:-1]) + kink[0])
+    return float(max(knots, 1) / max(t[-1] - t[0], 1e-9))
