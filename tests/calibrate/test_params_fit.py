@@ -5,7 +5,7 @@ import pytest
 from airwake.calibrate.errors import CalibrationError
 from airwake.calibrate.fit import identifiability_notes, uncertainty
 from airwake.calibrate.params import select_parameters
-from airwake.heli import load_spec
+from airwake.heli import load_model, load_spec
 
 
 @pytest.fixture(scope="module")
@@ -65,3 +65,23 @@ def test_strongly_correlated_pair_is_named():
     unc = uncertainty(jac, 0.1 * rng.normal(size=300), ["a", "b", "c"], np.ones(3))
     notes, _ = identifiability_notes(["a", "b", "c"], np.ones(3), unc, np.zeros(3, bool))
     assert any("a and b strongly correlated" in n for n in notes)
+
+
+def test_rms_before_is_the_start_models_residual_not_the_weighting_stages(still_air_flight):
+    """With the front end on, the fit's first stage (channel weights on a window subset)
+    already moves the model; "before" must be the model the user started from (issue 20:
+    on a foreign airframe the report showed 0.592 -> 0.562 for a fit that took Table
+    5.1's 0.943 to 0.562)."""
+    from airwake.calibrate import calibrate, model_error_std
+
+    res = calibrate(still_air_flight, model="table51", max_nfev=4,
+                    params=["rigid_body.Ixx_kg_m2", "main_rotor.lock_number"])
+    np.testing.assert_allclose(res.rms_before, model_error_std("table51", still_air_flight),
+                               rtol=1e-9)
+    staged = np.asarray(res.info["rms_after_weighting_fit"])
+    assert np.sqrt(np.mean(staged**2)) < np.sqrt(np.mean(res.rms_before**2))
+    assert res.to_dict()["rms_after_weighting_fit"] == list(staged)
+    start = load_model("table51").parameter_vector()
+    names = list(load_model("table51").parameter_names)
+    for n, s in zip(res.names, res.start, strict=True):
+        assert s == start[names.index(n)]

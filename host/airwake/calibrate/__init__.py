@@ -89,6 +89,11 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
         corr = data_rate_over_band(data, front)
         free, held = identified_subset(model, pred, free, correlation_samples=corr)
     prep.finish(f"{int(free.sum())} parameters to fit")
+    # the residual at the model the user started from, before any stage moves it (the
+    # weighting stage below is a first fit: measured after it, "before" hid what it did)
+    start_rms = pred.channel_rms(model.parameter_vector()[None])[0]
+    start_values = model.parameter_vector()
+    weighted_start = None
     if front is not None and channel_scale is None:
         model, scale = _reweight(model, pred, free, max_nfev, progress)
         data.scale = scale
@@ -105,11 +110,17 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
         result = fit_pso(model, pred, free, np.random.default_rng(seed), particles,
                          iterations, pso_windows, spread, progress=bar)
     bar.finish(f"rms {np.sqrt(np.mean(result.rms_after ** 2)):.4g}")
+    if np.all(np.isfinite(start_rms)):
+        weighted_start = result.rms_before
+        result.rms_before = start_rms
+        result.start = start_values[free]
     envelope = flight_envelope(data, model)
     result.notes[:0] = held
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
                        scored_samples=int(windows.n_scored), seed=int(seed),
                        held=list(held), front_end=front, envelope=envelope,
+                       rms_after_weighting_fit=None if weighted_start is None else
+                       [float(v) for v in weighted_start],
                        wind_trust=wind_trust(envelope))
     return result
 

@@ -153,4 +153,6 @@ class FitResult:
             "identifiability": list(self.notes),
             "cost_history": [float(c) for c in self.cost_history],
             **{k: v for k, v in self.info.items() if isinstance(v, (int, float, str, bool))},
+            **({"rms_after_weighting_fit": self.info["rms_after_weighting_fit"]}
+               if self.info.get("rms_after_weighting_fit") else {}),
         }
