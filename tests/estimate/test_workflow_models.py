@@ -19,14 +19,14 @@ import json
 import numpy as np
 import pytest
 from airwake.calibrate import model_error_std
+from airwake.calibrate.residuals import FlightData
 from airwake.calibrate.synthetic import WindProfile, generate_flight
 from airwake.cli import main
 from airwake.discrepancy.candidates import CANDIDATES, effect_with
-from airwake.calibrate.residuals import FlightData
 from airwake.estimate.prefilter import prefilter
 from airwake.estimate.smoother import WindSmoother, _smoother_gain
-from airwake.estimate.wind_prior import WindPrior
 from airwake.estimate.wind import estimate_wind, model_error_floor
+from airwake.estimate.wind_prior import WindPrior
 from airwake.heli import load_model, spec_calibration
 from airwake.record.flight_table import write_flight_table
 from hypothesis import given, settings
@@ -34,13 +34,12 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
-WIND = (2.0, -1.0, 0.5, 0.1, -0.05, 0.08)
+WIND = (2.0, -1.0, 0.5, 0.1, -0.05, 0.08)  # the wind of `constant_wind_flight` (conftest)
 
 
 @pytest.fixture(scope="module")
-def windy():
-    return generate_flight("table52", duration_s=8.0, seed=7, substeps=2,
-                           wind=WindProfile.constant(WIND))
+def windy(constant_wind_flight):
+    return constant_wind_flight
 
 
 @pytest.fixture(scope="module")
