@@ -132,3 +132,19 @@ def test_bare_model_group_prints_its_help(capsys):
     err = capsys.readouterr().err
     for sub in ("compare", "diagnose", "add", "report"):
         assert sub in err
+
+
+def test_an_added_effect_that_makes_a_channel_worse_is_named():
+    """`model add` writes the spec either way; a fit that raises a channel's error (on
+    the mismatched effect truth, inflow dynamics with tau at its bound: a_z 0.61 ->
+    0.66) is reported, not passed over."""
+    from airwake.discrepancy.add import AddResult
+    from airwake.heli.context import MEAS_CHANNELS
+
+    before = {c: {"rms": 1.0} for c in MEAS_CHANNELS}
+    after = {c: {"rms": 0.9} for c in MEAS_CHANNELS}
+    after[MEAS_CHANNELS[2]] = {"rms": 1.09}
+    after[MEAS_CHANNELS[4]] = {"rms": 1.005}  # within the 1 % tolerance
+    res = AddResult("dynamic_inflow", None, None, before, after, None, None)
+    assert res.worse_channels() == [MEAS_CHANNELS[2]]
+    assert res.worse_channels(tolerance=0.0) == [MEAS_CHANNELS[2], MEAS_CHANNELS[4]]

@@ -56,7 +56,14 @@ class AddResult:
                           for c in MEAS_CHANNELS},
             "out": None if self.out is None else str(self.out),
             "model_effects": list(self.model.effect_names),
+            "worse_channels": self.worse_channels(),
         }
+
+    def worse_channels(self, tolerance: float = 0.01) -> list[str]:
+        """Channels whose error the fitted effect raised by more than `tolerance`
+        (relative): the effect, as fitted, does not describe them on this flight."""
+        return [c for c in MEAS_CHANNELS
+                if self.after[c]["rms"] > (1.0 + tolerance) * self.before[c]["rms"]]
 
 
 def resolve_retune(model, patterns) -> list[str]:

@@ -274,6 +274,14 @@ def _add(args) -> int:
     for k, v in res.fit.values.items():
         print(f"  {k} = {v:.6g}" + ("  (at a bound)" if k in res.fit.at_bound else ""))
     print(_table(res.after, {"before": j["before"], "after": j["after"]}))
+    if j["worse_channels"]:
+        bound = [k for k in res.fit.values if k in res.fit.at_bound]
+        print(f"warning: the fitted {args.effect} made "
+              + ", ".join(f"{c} {j['before'][c]:.4g} -> {j['after'][c]:.4g}"
+                          for c in j["worse_channels"])
+              + " worse: as fitted it does not describe this flight"
+              + (f" ({', '.join(bound)} at a bound)" if bound else "")
+              + f"; {res.out} is written, keep the model you started from", file=sys.stderr)
     return 0
 
 
