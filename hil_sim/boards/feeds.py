@@ -184,6 +184,13 @@ class LosaLineFeed:
         self._buf.extend((int(t), rate[i], dark[i]) for i, t in enumerate(times))
         self._end = end
 
+    def prefetch(self, t1_us: int) -> None:
+        """Compute the lines up to t1_us for the LED state of the moment now, as `queue()`
+        would (an LED change in between recomputes from its instant). The stepped SIL
+        calls it while the daemon reads the previous step, off the lockstep's path."""
+        while self._end < t1_us:
+            self._compute(self._end)
+
     def queue(self, board: NativeBoard, t0_us: int, t1_us: int) -> None:
         events = sorted(e for e in self._events if e[0] < t1_us)
         self._events = [e for e in self._events if e[0] >= t1_us]
@@ -278,6 +285,11 @@ class BoardFeeds:
             f.queue(board, t0_us, t1_us)
         if board_name == "losa" and self.losa_lines is not None:
             self.losa_lines.queue(board, t0_us, t1_us)
+
+    def prefetch(self, t1_us: int) -> None:
+        """Work that does not wait for the host's replies (the LOSA's look-ahead lines)."""
+        if self.losa_lines is not None:
+            self.losa_lines.prefetch(t1_us)
 
     @classmethod
     def build(cls, result, rig: SilRig, rngs: dict[str, np.random.Generator]) -> BoardFeeds:

@@ -415,6 +415,8 @@ class SilRun:
         edges = [t for o in self._outages for t in (o.start_us, o.end_us) if t > t0]
         t1 = min(t0 + self.rig.step_us, self.end_us, *edges)
         if self.clock is not None:
+            # while the daemon reads the last step: what needs none of its replies
+            self.feeds.prefetch(t1)
             self._wait_host_idle()
         self._collect_host_bytes(t0)
         self._outage_transitions(t0)

@@ -117,6 +117,31 @@ def test_losa_sees_an_led_change_at_the_instant_the_marker_made_it():
     assert lit[0] == 13_500 and lit[-1] < 24_000 and peak[24_000] < 2 * peak[0]
 
 
+def test_losa_lines_prefetched_during_the_daemon_pass_still_see_led_changes():
+    # the stepped SIL computes the next step's lines while the daemon reads the last one
+    # (for the LED state of that moment); a change in the step recomputes from its instant
+    t = np.arange(0, 1.0, 1e-3)
+    pos = np.tile([0.0, -0.4, 2.5], (t.size, 1))
+    quat = np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))
+    runs = {}
+    for prefetch in (False, True):
+        feed = LosaLineFeed(LosaOptics(rng=np.random.default_rng(0)), t, pos, quat, 1000.0)
+        rec = _Recorder()
+        events = {10_000: (13_500, "led2", 40000), 20_000: (24_000, "led2", 0)}
+        for t0 in range(0, 60_000, 10_000):
+            if prefetch:
+                feed.prefetch(t0 + 10_000)
+            if t0 in events:
+                feed.led_events([events[t0]])
+            feed.queue(rec, t0, t0 + 10_000)
+        peak = {tt: float(r.max()) for tt, r, _ in rec.got_lines}
+        runs[prefetch] = ([x[0] for x in rec.got_lines],
+                          [tt for tt in peak if peak[tt] > 10 * peak[0]])
+    assert runs[True] == runs[False]
+    times, lit = runs[True]
+    assert lit[0] == 13_500 and lit[-1] < 24_000 and set(range(0, 60_000, 1000)) <= set(times)
+
+
 def test_shared_clock_follows_holds_and_never_goes_back(tmp_path):
     # the daemon's monotonic clock: wall-paced before/after the flight, simulator time
     # during it, continuous across the switches, read in another process
