@@ -19,6 +19,7 @@ OFF = {
     "rotor_droop": {"tachometer_gain": 0.0}, "dynamic_inflow": {},
     "wake_recirculation": {"inflow_increase": 0.0}, "accel_bias": {},
     "accel_misalignment": {}, "cg_offset": {}, "fuselage_drag_error": {},
+    "advance_cyclic": {},
 }
 
 
@@ -139,3 +140,32 @@ def test_an_effect_added_after_dynamic_inflow_still_feeds_the_lagged_inflow():
     assert (both + effect_with("ground_effect", {})).effect_names[-3:] == [
         "wake_recirculation", "ground_effect", "dynamic_inflow"]
     assert (BASE + effect_with("servo_lag", {})).effect_names[-1] == "servo_lag"
+
+
+def test_advance_cyclic_adds_blade_cyclic_linear_in_the_advance_ratio():
+    # theta_c += k_cx mu_x + k_cy mu_y, theta_s += k_sx mu_x + k_sy mu_y (rotor frame),
+    # after the flybar's mixer; nothing else in the blade pitch changes
+    k = {"k_cx": 0.5, "k_cy": -0.2, "k_sx": 0.3, "k_sy": -0.7}
+    model = BASE + effect_with("advance_cyclic", k)
+    x, u, env = _rows(model)
+    c0 = BASE.evaluate(x[:, :BASE.n_states], u, None, env)
+    c1 = model.evaluate(x, u, None, env)
+    v = np.asarray(c1.hub_air_velocity_rotor_m_s)
+    mu = v[:, :2] / np.asarray(c1.tip_speed_m_s).reshape(-1, 1)
+    assert np.ptp(mu[:, 0]) > 1e-3 and np.ptp(mu[:, 1]) > 1e-3  # rows that differ in mu
+    np.testing.assert_allclose(np.ravel(c1.theta_c) - np.ravel(c0.theta_c),
+                               k["k_cx"] * mu[:, 0] + k["k_cy"] * mu[:, 1], atol=1e-12)
+    np.testing.assert_allclose(np.ravel(c1.theta_s) - np.ravel(c0.theta_s),
+                               k["k_sx"] * mu[:, 0] + k["k_sy"] * mu[:, 1], atol=1e-12)
+    np.testing.assert_allclose(np.ravel(c1.theta_0), np.ravel(c0.theta_0), atol=0)
+
+
+def test_an_effect_that_adds_to_the_flybar_mixer_must_follow_the_flybar():
+    # placed before the flybar its increment would be overwritten by the mixer: refused
+    from airwake.heli.model import HeliModel
+
+    effects = list(BASE.effects)
+    at = [e.name for e in effects].index("flybar")
+    effects.insert(at, effect_with("advance_cyclic", {"k_cx": 0.5}))
+    with pytest.raises(ValueError, match="advance_cyclic.*after.*flybar"):
+        HeliModel(effects)

@@ -123,6 +123,13 @@ CANDIDATES: tuple[Candidate, ...] = (
         fit=("dcx_m2", "dcy_m2", "dcz_m2", "x_cp_m", "z_cp_m"),
         manoeuvre="forward, sideward and vertical flight at several speeds (>= 3 m/s)",
     ),
+    Candidate(
+        "advance_cyclic", "cyclic trim vs advance ratio",
+        screen={"k_cx": 0.3, "k_cy": 0.3, "k_sx": 0.3, "k_sy": 0.3},
+        fit=("k_cx", "k_cy", "k_sx", "k_sy"),
+        manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
+                  "(the cyclic trim changes with the airspeed across the disc)",
+    ),
 )
 
 

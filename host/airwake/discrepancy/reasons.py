@@ -159,7 +159,20 @@ def _drag(an, res):
             f"{p.get('dcy_m2', 0):+.3f}, {p.get('dcz_m2', 0):+.3f}) m²: fuselage drag error")
 
 
+def _advance(an, res):
+    fl = an.flight
+    u, v = fl.column("vel_u_m_s"), fl.column("vel_v_m_s")  # still air: air velocity = -these
+    c = max(abs(_corr(an.residual_band[:, j], an.band(w), an.mask)) for j in (3, 4)
+            for w in (u, v))
+    p = res.params
+    return (f"roll/pitch residuals follow the airspeed across the disc (|corr| {c:.2f} with "
+            f"u or v): cyclic per advance ratio k = ({p.get('k_cx', 0):+.2f}, "
+            f"{p.get('k_cy', 0):+.2f}; {p.get('k_sx', 0):+.2f}, {p.get('k_sy', 0):+.2f}) rad: "
+            "the rotor's blow-back / inflow roll differ from the model's")
+
+
 _REASONS = {
+    "advance_cyclic": _advance,
     "ground_effect": _ground_effect, "imu_lever_arm": _lever, "servo_lag": _servo,
     "rotor_droop": _droop, "dynamic_inflow": _inflow, "wake_recirculation": _recirc,
     "accel_bias": _bias, "accel_misalignment": _misalign, "cg_offset": _cg,

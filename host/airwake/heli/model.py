@@ -83,6 +83,11 @@ class HeliModel:
             missing = [r for r in e.REQUIRES if r not in names]
             if missing:
                 raise ValueError(f"effect '{e.name}' requires effect(s) {missing} in the model")
+        for i, e in enumerate(effects):
+            late = [a for a in e.AFTER if a in names[i + 1:]]
+            if late:
+                raise ValueError(f"effect '{e.name}' must come after {late} in the model "
+                                 f"(it adds to what they write); move it later in `effects`")
         self.effects: tuple[Effect, ...] = tuple(effects)
         self._by_name = dict(zip(names, effects, strict=True))
         # state layout

@@ -156,6 +156,9 @@ class Effect:
     # written in `load` is felt by an accelerometer (False for field forces: gravity).
     SCRATCH: ClassVar[int] = 0
     LOAD_SENSED: ClassVar[bool] = True
+    # Effects that must come before this one in the model when they are in it (a stage
+    # that adds to what they write); the model refuses another order.
+    AFTER: ClassVar[tuple[str, ...]] = ()
     # Effects that act on what every effect before them produced (a lag of the total
     # inflow): `model + effect` inserts a new effect before the trailing run of these.
     KEEP_LAST: ClassVar[bool] = False
