@@ -169,3 +169,31 @@ def test_an_effect_that_adds_to_the_flybar_mixer_must_follow_the_flybar():
     effects.insert(at, effect_with("advance_cyclic", {"k_cx": 0.5}))
     with pytest.raises(ValueError, match="advance_cyclic.*after.*flybar"):
         HeliModel(effects)
+
+
+class _Columns:
+    def __init__(self, **cols):
+        self.cols = cols
+
+    def has(self, name):
+        return name in self.cols
+
+    def column(self, name):
+        return self.cols[name]
+
+
+def test_advance_cyclic_is_untestable_without_airspeed_across_the_disc():
+    # its signature is proportional to the in-plane air velocity: a hover flight cannot
+    # show it, the same hover in a known 3 m/s wind can
+    from airwake.discrepancy.candidates import candidate, flight_can_test
+
+    cand = candidate("advance_cyclic")
+    n = 1000
+    rng = np.random.default_rng(1)
+    hover = _Columns(vel_u_m_s=rng.normal(0, 0.3, n), vel_v_m_s=rng.normal(0, 0.3, n))
+    assert "never flies faster" in flight_can_test(cand, hover, BASE)
+    wind = np.zeros((n, 6))
+    wind[:, 0] = -3.0
+    assert flight_can_test(cand, hover, BASE, wind) is None
+    legs = _Columns(vel_u_m_s=np.r_[np.zeros(n - 100), np.full(100, 3.0)], vel_v_m_s=np.zeros(n))
+    assert flight_can_test(cand, legs, BASE) is None

@@ -310,7 +310,7 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
             untestable.append(CandidateResult(cand.name, cand.title, testable=False,
                                               why_not="already in the model"))
             continue
-        why = flight_can_test(cand, an.flight, an.model)
+        why = flight_can_test(cand, an.flight, an.model, an.wind)
         if why:
             untestable.append(CandidateResult(cand.name, cand.title, testable=False,
                                               why_not=why))
