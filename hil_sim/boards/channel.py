@@ -208,6 +208,7 @@ class NativeBoard:
         self.mode = mode
         self.timeout_s = timeout_s
         self.now_us = int(start_us)
+        self._in_flight: StepResult | None = None  # advance_begin() without its end yet
         self._queue: list[tuple[int, bytes]] = []
         self._dir = Path(tempfile.mkdtemp(prefix=f"aw-{board}-"))
         self.socket_path = self._dir / "sim.sock"
@@ -308,8 +309,16 @@ class NativeBoard:
     # ---- stepped mode ----
     def advance(self, t_us: int) -> StepResult:
         """Run the board until t_us with the queued inputs; return its outputs."""
+        return self.advance_end(self.advance_begin(t_us))
+
+    def advance_begin(self, t_us: int) -> StepResult:
+        """The first half of `advance()`: the queued inputs and the ADVANCE to t_us go out
+        and the board runs while the caller does other work (another board's step);
+        `advance_end()` collects what it sent. One step in flight per board."""
         if self.mode != "stepped":
             raise ChannelError("advance() is for stepped mode; use send()/poll() in wall mode")
+        if self._in_flight is not None:
+            raise ChannelError(self._why("advance_begin() with a step still in flight"))
         t_us = int(t_us)
         if t_us < self.now_us:
             raise ValueError(f"advance({t_us}): the board is already at {self.now_us} us")
@@ -327,8 +336,18 @@ class NativeBoard:
                 chunk, size = [], HEADER.size
             chunk.append(rec)
             size += len(rec)
-        self._step(chunk, t_us, result)
-        self.now_us = t_us
+        self._send_packet(b"".join(chunk) + HEADER.pack(ADVANCE, 0, HEADER.size, 0, t_us))
+        self._in_flight = result
+        return result
+
+    def advance_end(self, result: StepResult) -> StepResult:
+        """The second half of `advance()`: wait for the board's outputs up to its IDLE."""
+        if self._in_flight is not result:
+            raise ChannelError(self._why("advance_end() without its advance_begin()"))
+        while not self._read_packet(result):
+            pass
+        self._in_flight = None
+        self.now_us = result.t_us
         return result
 
     def _step(self, records: list[bytes], t_us: int, result: StepResult) -> None:

@@ -421,17 +421,30 @@ class SilRun:
         self._collect_host_bytes(t0)
         self._outage_transitions(t0)
         xbee = "rover" in self.boards and "base" in self.boards
+        # boards whose step needs nothing from another board's same step run together (one
+        # step in flight each): the LOSA beside the rover and the base; the marker first,
+        # its LEDs light the LOSA's step
+        losa = None
         for name in ORDER:
-            if name in self.boards and not (xbee and name in ("rover", "base")):
+            if name not in self.boards or (xbee and name in ("rover", "base")):
+                continue
+            if name == "losa" and xbee:
+                losa = self._advance_begin(name, t0, t1)
+            else:
                 self._advance(name, t0, t1)
         if xbee:
             # the rover and the base talk over the XBee: sub-steps of its latency, so a
-            # byte either way arrives exactly `xbee_latency_us` after it was sent
+            # byte either way arrives exactly `xbee_latency_us` after it was sent — after
+            # the sub-step, so the two boards' sub-steps are independent and run together
             sub = max(1, min(self.rig.xbee_latency_us, t1 - t0))
             for s0 in range(t0, t1, sub):
                 s1 = min(s0 + sub, t1)
-                self._advance("rover", s0, s1)
-                self._advance("base", s0, s1)
+                rover = self._advance_begin("rover", s0, s1)
+                base = self._advance_begin("base", s0, s1)
+                self._advance_end("rover", rover)
+                self._advance_end("base", base)
+        if losa is not None:
+            self._advance_end("losa", losa)
         self.t_us = t1
         if self.clock is not None:
             self.clock.set(self.host_offset_ns + t1 * 1000)
@@ -461,6 +474,11 @@ class SilRun:
 
     def _advance(self, name: str, t0: int, t1: int) -> None:
         """One board from t0 to t1 with its inputs; its outputs onto the links."""
+        self._advance_end(name, self._advance_begin(name, t0, t1))
+
+    def _advance_begin(self, name: str, t0: int, t1: int):
+        """The board's inputs for [t0, t1) out and its step started (`NativeBoard.
+        advance_begin`); `_advance_end` takes its outputs."""
         board = self.boards[name]
         self.feeds.queue(name, board, t0, t1)
         for t_reset, b in self._resets:
@@ -468,7 +486,10 @@ class SilRun:
                 board.reset(t_reset)
                 self.events.append({"kind": "reset", "board": b, "at_s": t_reset / 1e6})
         self._host_input(name, board, t0, t1)
-        res = board.advance(t1)
+        return board.advance_begin(t1)
+
+    def _advance_end(self, name: str, pending) -> None:
+        res = self.boards[name].advance_end(pending)
         if name == "marker" and self.feeds.losa_lines is not None:
             self.feeds.losa_lines.led_events(res.pwm)
         self._board_output(name, res)

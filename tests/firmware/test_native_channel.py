@@ -345,3 +345,33 @@ def test_bad_command_line_is_one_clear_error_and_status_2():
     assert "unknown role" in proc.stderr and "gps" in proc.stderr
     proc = subprocess.run([str(exe), "--stepped"], capture_output=True, text=True, timeout=30)
     assert proc.returncode == 2 and "--sim" in proc.stderr
+
+
+def test_two_boards_stepped_together_send_what_they_send_one_after_the_other():
+    # advance_begin/advance_end: the SIL runs boards whose steps are independent side by
+    # side; the bytes must be those of plain advance(), step for step
+    rates = [gaussian_rate(50.0 + 10 * s, 1.0) for s in range(4)]
+
+    def fly(together: bool) -> list[bytes]:
+        out = []
+        with NativeBoard("losa", ports={"host": "sim"}, flavour="asan") as a, \
+                NativeBoard("losa", ports={"host": "sim"}, flavour="asan") as b:
+            for k in range(40):
+                t1 = (k + 1) * 10_000
+                if k == 0:
+                    for s in range(4):
+                        a.line(0, s, rates[s], 40.0)
+                        b.line(0, s, rates[3 - s], 40.0)
+                if together:
+                    pa, pb = a.advance_begin(t1), b.advance_begin(t1)
+                    ra, rb = a.advance_end(pa), b.advance_end(pb)
+                else:
+                    ra, rb = a.advance(t1), b.advance(t1)
+                out += [ra.uart.get("host", b""), rb.uart.get("host", b"")]
+            with pytest.raises(channel.ChannelError, match="in flight"):
+                a.advance_begin(500_000)
+                a.advance_begin(510_000)
+        return out
+
+    alone, together = fly(False), fly(True)
+    assert together == alone and sum(map(len, alone)) > 1000
