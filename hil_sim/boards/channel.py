@@ -336,7 +336,7 @@ class NativeBoard:
                 chunk, size = [], HEADER.size
             chunk.append(rec)
             size += len(rec)
-        self._send_packet(b"".join(chunk) + HEADER.pack(ADVANCE, 0, HEADER.size, 0, t_us))
+        self._send_step(chunk, t_us)
         self._in_flight = result
         return result
 
@@ -350,9 +350,11 @@ class NativeBoard:
         self.now_us = result.t_us
         return result
 
+    def _send_step(self, records: list[bytes], t_us: int) -> None:
+        self._send_packet(b"".join(records) + HEADER.pack(ADVANCE, 0, HEADER.size, 0, t_us))
+
     def _step(self, records: list[bytes], t_us: int, result: StepResult) -> None:
-        packet = b"".join(records) + HEADER.pack(ADVANCE, 0, HEADER.size, 0, t_us)
-        self._send_packet(packet)
+        self._send_step(records, t_us)
         while True:
             if self._read_packet(result):
                 return

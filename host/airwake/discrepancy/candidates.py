@@ -153,6 +153,15 @@ MIN_ADVANCE_AIRSPEED_M_S = 1.5  # advance_cyclic: in-plane airspeed that shows i
 MIN_ADVANCE_FRACTION = 0.02  # ... on at least this share of the samples
 
 
+def air_velocity_uv(flight, wind=None) -> tuple[np.ndarray, np.ndarray]:
+    """In-plane air velocity (body x, y) over the flight: the known wind ((T, 6), body axes)
+    minus the body velocity, or minus the body velocity alone in still air."""
+    u, v = -flight.column("vel_u_m_s"), -flight.column("vel_v_m_s")
+    if wind is not None:
+        u, v = u + np.asarray(wind)[:, 0], v + np.asarray(wind)[:, 1]
+    return u, v
+
+
 def flight_can_test(cand: Candidate, flight, model, wind=None) -> str | None:
     """None when the flight can test `cand`, else why not (a short phrase). `wind`: the
     known wind given as the model's input ((T, 6), body axes), else still air."""
@@ -166,10 +175,7 @@ def flight_can_test(cand: Candidate, flight, model, wind=None) -> str | None:
         if low.sum() < 0.02 * z.size:
             return "the flight never comes within 3 rotor radii of the ground"
     if cand.name == "advance_cyclic":
-        u, v = flight.column("vel_u_m_s"), flight.column("vel_v_m_s")
-        if wind is not None:
-            u, v = np.asarray(wind)[:, 0] - u, np.asarray(wind)[:, 1] - v
-        fast = np.hypot(u, v) > MIN_ADVANCE_AIRSPEED_M_S
+        fast = np.hypot(*air_velocity_uv(flight, wind)) > MIN_ADVANCE_AIRSPEED_M_S
         if np.mean(fast) < MIN_ADVANCE_FRACTION:
             return (f"the flight never flies faster than {MIN_ADVANCE_AIRSPEED_M_S} m/s "
                     "through the air across the disc")

@@ -160,8 +160,9 @@ def _drag(an, res):
 
 
 def _advance(an, res):
-    fl = an.flight
-    u, v = fl.column("vel_u_m_s"), fl.column("vel_v_m_s")  # still air: air velocity = -these
+    from airwake.discrepancy.candidates import air_velocity_uv
+
+    u, v = air_velocity_uv(an.flight, an.wind)
     c = max(abs(_corr(an.residual_band[:, j], an.band(w), an.mask)) for j in (3, 4)
             for w in (u, v))
     p = res.params
