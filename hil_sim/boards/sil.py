@@ -662,6 +662,8 @@ class SilRun:
         summary = {
             "format": "airwake-sil-run/1",
             "scenario": self.scenario.name, "seed": self.seed, "mode": self.mode,
+            "helicopter": {"model": self.scenario.helicopter.model,
+                           "pilot": self.scenario.helicopter.pilot},
             "survey": _survey_dict(self.survey),
             "duration_s": sim_s, "boards": list(self.rig.boards),
             "host_ports": {b: str(self.out / "ports" / b) for b in self.ptys},

@@ -1,41 +1,73 @@
-"""`make demo`'s driver end to end on short flights: every step runs as the command a user
-types, and it ends with a report led by the airwake map, whose figures exist, whose model
-section says the residual is the airwake, and a baseline spec that loads."""
+"""`make demo`'s driver end to end on short flights of the blade-element truth: every step
+runs as the command a user types (calibrate, diagnose, add, fly, export, estimate, map), and
+it ends with a report led by the airwake map, whose figures exist, whose verdicts follow
+the numbers (the model section's, and which wind components the intervals fail), and
+specs that load."""
 
 import json
 import subprocess
 import sys
+from html import escape as html_escape
 
+import pytest
 from airwake.heli import load_spec, spec_calibration
 from browser import images_loaded
 from sil_harness import REPO
+
+from hil_sim.boards.demo import estimate_verdict, truth_arguments
 
 
 def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     out = tmp_path / "demo"
     done = subprocess.run(
         [sys.executable, "-m", "hil_sim.boards.demo", "--out", str(out), "--duration", "10",
-         "--calibration-s", "20"], cwd=REPO, capture_output=True, text=True, timeout=600)
+         "--calibration-s", "20"], cwd=REPO, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     report = out / "report" / "index.html"
     assert f"report       {report}" in done.stdout
     assert f"airwake map  {out / 'map' / 'map.parquet'}" in done.stdout
     html = report.read_text()
-    # the headline is the map; the model section does not blame an effect for the wind
+    # the truth is the independent blade-element machine, and the report says so
+    run = json.loads((out / "recording" / "sil" / "run.json").read_text())
+    assert run["helicopter"] == {"model": "blade_element", "pilot": "crossover"}
+    assert "the independent blade-element machine" in html
+    # the headline is the map
     assert html.index("Airwake map") < html.index("The model on this flight")
-    # ... because the estimated wind, given to the model, takes the residual to its floor
+    # the model section's verdict follows the numbers: the estimated wind as the model's
+    # input either takes the residual to its floor (the airwake) or it does not
     still = json.loads((out / "compare_still_air.json").read_text())["channels"]
     wind = json.loads((out / "compare_with_wind.json").read_text())["channels"]
     worst_still = max(c["rms_over_noise"] for c in still.values())
     worst_wind = max(c["rms_over_noise"] for c in wind.values())
-    assert worst_wind <= 8.0 and worst_still > 2 * worst_wind, (worst_still, worst_wind)
-    assert "The residual of this flight is the airwake" in html
-    assert "best explained by" not in html
-    # the diagnosis, with no wind given, names the wind, not a model effect
+    explains = worst_wind <= 8.0 and worst_still > 2 * worst_wind
+    assert ("The residual of this flight is the airwake" in html) == explains
+    assert ("The estimated wind does not account for the residual" in html) == (not explains)
+    # the still-air diagnosis of the ship flight names the airwake, not a model effect
     diag = json.loads((out / "diagnose_still_air.json").read_text())
     assert diag["verdict"]["kind"] == "wind", diag["verdict"]
     assert diag["candidates"][0]["effect"] == "unmodelled_wind"
     assert "The residual is unmodelled wind" in html
+    # the estimate's paragraph names every component whose intervals miss the truth
+    comp = json.loads((out / "wind_estimate.json").read_text())["score"]["components"]
+    paragraph = estimate_verdict(comp)
+    assert html_escape(paragraph) in html
+    for name, c in comp.items():
+        short = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
+                 "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}[name]
+        assert (f"{short} ({100 * c['coverage_90']:.0f} %" in paragraph) == (
+            c["coverage_90"] < 0.8), (name, c["coverage_90"], paragraph)
+    # calibrate -> diagnose -> add, as docs/calibration.md has a user do it
+    step = json.loads((out / "discrepancy_step.json").read_text())
+    assert step["diagnosis"] in html or html_escape(step["diagnosis"]) in html
+    model = load_spec(step["model"])
+    if step["added"]:
+        assert step["model"] == str(out / "model.toml")
+        assert step["added"] in model.effect_names
+        assert f"RMS, with {step['added']}" in html
+        assert not [c for c in step["before"]
+                    if step["after"][c] > step["before"][c] * 1.01]
+    else:
+        assert step["model"] == str(out / "baseline.toml")
     for f in ("mean_flow.png", "turbulence.png", "coverage.png"):
         assert (out / "report" / f).stat().st_size > 0 and f in html
     # a real browser opens the report and the map's page with every figure loaded
@@ -54,3 +86,24 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert abs(profile_drag(base) / profile_drag(t52) - 1) > 0.5  # calibrated, not Table 5.2
     assert spec_calibration(out / "baseline.toml")["start"] == "table52"
     assert (out / "recording").is_dir() and (out / "wind.parquet").stat().st_size > 0
+
+
+def test_estimate_verdict_names_exactly_the_components_whose_intervals_miss():
+    comp = {n: {"coverage_90": cov, "error_mean": bias} for n, cov, bias in (
+        ("wind_vx_m_s", 0.16, 0.71), ("wind_vy_m_s", 0.92, -0.2), ("wind_vz_m_s", 0.79, -0.4),
+        ("wind_wx_rad_s", 1.0, 0.0), ("wind_wy_rad_s", 0.8, 0.3), ("wind_wz_rad_s", 0.5, 0.1))}
+    text = estimate_verdict(comp)
+    assert "v_x (16 %, bias +0.71)" in text and "v_z (79 %, bias -0.40)" in text
+    assert "ω_z (50 %, bias +0.10)" in text
+    assert "v_y" not in text and "ω_x" not in text and "ω_y" not in text
+    for c in comp.values():
+        c["coverage_90"] = 0.9
+    assert estimate_verdict(comp).startswith("The 90 % intervals hold the truth at least 80 %")
+
+
+def test_truth_arguments_fly_each_truth_with_its_pilot():
+    assert truth_arguments("blade_element") == ["--truth", "blade_element", "--pilot",
+                                                "crossover"]
+    assert truth_arguments("effects") == ["--truth", "effects"]
+    with pytest.raises(ValueError, match="'jsbsim'"):
+        truth_arguments("jsbsim")
