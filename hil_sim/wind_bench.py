@@ -44,7 +44,7 @@ import sys
 from pathlib import Path
 
 SECTION = "estimate"
-BENCH_VERSION = 2
+BENCH_VERSION = 3
 SCENARIO = "ship_airwake_b15"
 TRUTH = ("--truth", "blade_element", "--pilot", "crossover")
 SEED = 101

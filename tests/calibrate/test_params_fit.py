@@ -85,3 +85,22 @@ def test_rms_before_is_the_start_models_residual_not_the_weighting_stages(still_
     names = list(load_model("table51").parameter_names)
     for n, s in zip(res.names, res.start, strict=True):
         assert s == start[names.index(n)]
+
+
+def test_the_steady_offset_is_the_constant_a_channel_is_off_by(still_air_flight, tmp_path):
+    """`model_error`'s second part reads a constant misfit added to one channel as that
+    constant (the model's own flight otherwise fits to its noise), and no other channel
+    moves: what `[calibration] model_error_offset` carries to the wind estimator."""
+    from airwake.calibrate import model_error
+    from airwake.record.flight_table import load_flight_table, write_flight_table
+
+    rms0, off0 = model_error("table52", still_air_flight)
+    df = still_air_flight.df.copy()
+    df["acc_x_m_s2"] += 0.05
+    path = tmp_path / "offset.parquet"
+    write_flight_table(df, path, still_air_flight.metadata)
+    rms1, off1 = model_error("table52", load_flight_table(path))
+    assert off0[0] < 0.01
+    assert abs(off1[0] - 0.05) < 0.01 and rms1[0] >= off1[0] - 1e-12
+    np.testing.assert_allclose(off1[1:], off0[1:], rtol=1e-9)
+    np.testing.assert_allclose(rms1[1:], rms0[1:], rtol=1e-9)

@@ -25,7 +25,8 @@ from airwake.lazy import lazy_exports
 if TYPE_CHECKING:
     from airwake.calibrate.fit import FitResult
 
-__all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight", "model_error_std"]
+__all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight", "model_error",
+           "model_error_std"]
 # numpy and the fit load on first use: `airwake --help` imports this package
 __getattr__, __dir__ = lazy_exports(__name__, {"FitResult": "airwake.calibrate.fit"})
 
@@ -115,13 +116,16 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
         result.rms_before = start_rms
         result.start = start_values[free]
     envelope = flight_envelope(data, model)
+    # what of the fitted model's misfit holds for a window (module doc of model_error)
+    offset = pred.channel_stats(result.model.parameter_vector()[None])[1][0]
     result.notes[:0] = held
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
                        scored_samples=int(windows.n_scored), seed=int(seed),
                        held=list(held), front_end=front, envelope=envelope,
                        rms_after_weighting_fit=None if weighted_start is None else
                        [float(v) for v in weighted_start],
-                       wind_trust=wind_trust(envelope))
+                       wind_trust=wind_trust(envelope),
+                       model_error_offset=[float(v) for v in offset])
     return result
 
 
@@ -132,6 +136,16 @@ def model_error_std(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 
     scores: what `airwake calibrate` writes as `[calibration] model_error_std` for the
     model it fitted, here for any model (one `airwake model add` made, say), so the wind
     estimator's noise floor always belongs to the model it runs."""
+    return model_error(model, flight, cutoff_hz=cutoff_hz, window_s=window_s,
+                       warmup_s=warmup_s)[0]
+
+
+def model_error(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 2.0,
+                warmup_s: float = 1.0):
+    """((6,), (6,)): `model_error_std`, and the RMS over the windows of each window's mean
+    residual — `[calibration] model_error_offset`, what of the misfit holds for a window
+    (a body-fixed force or moment: the flight condition's model error, the accelerometers'
+    turn-on bias), which the wind estimator cannot tell from a steady wind."""
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
     from airwake.heli import load_model
 
@@ -140,11 +154,11 @@ def model_error_std(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 
     if cutoff_hz:
         data, _ = _front_end(data, model, float(cutoff_hz), None)
     pred = WindowedPredictor(model, data, make_windows(data, window_s, warmup_s))
-    rms = pred.channel_rms(model.parameter_vector()[None])[0]
-    if not all(map(math.isfinite, rms)):
+    rms, offset = (v[0] for v in pred.channel_stats(model.parameter_vector()[None]))
+    if not all(map(math.isfinite, [*rms, *offset])):
         raise CalibrationError(f"{getattr(flight, 'path', flight)}: the model's prediction "
                                "is not finite on this flight; no model error to report")
-    return rms
+    return rms, offset
 
 
 REWEIGHT_WINDOWS = 16

@@ -65,6 +65,10 @@ def calibration_table(result, flight, start) -> dict:
     # wind is known to be zero), per channel after the front end: the wind estimator's
     # floor for the channel noise, so model error is never taken for wind
     out["model_error_std"] = [float(v) for v in result.rms_after]
+    # and the part of it that holds for a window (a body-fixed force or moment the wind
+    # estimator cannot tell from a steady wind: it widens the wind's intervals by it)
+    if info.get("model_error_offset") is not None:
+        out["model_error_offset"] = list(info["model_error_offset"])
     return out
 
 

@@ -171,6 +171,13 @@ def make_windows(data: FlightData, window_s: float = 2.0, warmup_s: float = 1.0)
     return Windows(np.array(idx), np.array(score), warm)
 
 
+# the steady part of a misfit: blocks this long, longer than the wind's turbulence (its
+# correlation time is < 1 s) and than a survey leg's manoeuvres, so what a block's mean
+# holds is what the wind estimator would take for a steady wind (on the blade-element
+# still-air flight the x offset reads 0.021-0.023 m/s^2 for blocks of 20 to 160 s)
+OFFSET_BLOCK_S = 30.0
+
+
 class WindowedPredictor:
     """Predicted measurement over windows of a flight for K parameter sets at once."""
 
@@ -261,6 +268,25 @@ class WindowedPredictor:
 
     def channel_rms(self, param_sets: np.ndarray) -> np.ndarray:
         """(K, 6) RMS of the unweighted residual per channel over scored samples."""
+        return self.channel_stats(param_sets)[0]
+
+    def channel_stats(self, param_sets: np.ndarray, block_s: float = OFFSET_BLOCK_S
+                      ) -> tuple[np.ndarray, np.ndarray]:
+        """(K, 6) RMS of the unweighted residual per channel over the scored samples, and
+        (K, 6) the steady part of it: the flight cut into blocks of `block_s` seconds (by
+        each window's start), the RMS over the blocks of each block's mean residual over
+        its windows' scored samples — a body-fixed force or moment the model misses in
+        a flight condition, a sensor's turn-on bias."""
         z, _ = self.predict(param_sets)
-        e = (self.measured()[None] - z)[:, self.windows.score]
-        return np.sqrt(np.mean(e * e, axis=1))
+        e = self.measured()[None] - z  # (K, W, L, 6)
+        score = self.windows.score
+        rms = np.sqrt(np.mean(e[:, score] ** 2, axis=1))
+        start = self.data.t[self.windows.idx[:, 0]]
+        block = np.floor((start - start.min()) / block_s).astype(int)
+        means = []
+        for b in np.unique(block):
+            sel = score & (block == b)[:, None]
+            if sel.any():
+                means.append(e[:, sel].mean(axis=1))  # (K, 6)
+        offset = np.sqrt(np.mean(np.square(means), axis=0))
+        return rms, offset

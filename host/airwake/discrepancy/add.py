@@ -92,19 +92,22 @@ def _register_plugin(plugin) -> list[str]:
 
 def _calibration_after(start_spec, new_model, effect: str, flight, wind) -> dict:
     """The new spec's [calibration] table: the start spec's, with the effects added since
-    and `model_error_std` re-measured for the new model on the still-air flight it was
-    fitted on (what the wind estimator takes as its channel-noise floor: the floor of
-    the model it runs, not of the model before the effect). With a windy flight and its
+    and `model_error_std` / `model_error_offset` re-measured for the new model on the
+    still-air flight it was fitted on (what the wind estimator takes as its channel-noise
+    floor and its steady-offset allowance: those of the model it runs, not of the model
+    before the effect). With a windy flight and its
     wind as input the floor is not re-measured: the start spec's is kept (it can only be
     larger), or none is written."""
-    from airwake.calibrate import CalibrationError, model_error_std
+    from airwake.calibrate import CalibrationError, model_error
     from airwake.heli import spec_calibration
 
     table = dict(spec_calibration(start_spec) or {})
     table["added_effects"] = [*table.get("added_effects", []), effect]
     if wind is None and not isinstance(flight, np.ndarray):
         try:
-            table["model_error_std"] = [float(v) for v in model_error_std(new_model, flight)]
+            rms, offset = model_error(new_model, flight)
+            table["model_error_std"] = [float(v) for v in rms]
+            table["model_error_offset"] = [float(v) for v in offset]
             table["model_error_flight"] = str(getattr(flight, "path", flight))
         except CalibrationError as exc:
             raise DiscrepancyError(f"the model with {effect}: {exc}") from None

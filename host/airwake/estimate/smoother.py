@@ -528,8 +528,67 @@ class WindSmoother:
                     progress.update(it + 1, f"log-likelihood {loglik:.5g}")
                 if it < self.iterations - 1:
                     prior, r_diag = self._em(passes, prior, r_diag)
+        # the last pass, for what is asked of it afterwards (offset_std)
+        self.last_passes, self.last_noise = passes, r_diag.copy()
         return self._result(passes, prior, np.sqrt(r_diag), history,
                             time.perf_counter() - t0)
+
+    # -- steady measurement offsets ------------------------------------------------
+    def offset_sensitivity(self) -> np.ndarray:
+        """(n, 6, 6) d(smoothed wind) / d(a constant offset on each measured channel), at
+        every kept sample, for the last pass of `run` (its linearisation, gains and
+        noise). The smoothed mean of a pass is affine in the measurements (the pass is
+        linearised along a fixed trajectory), so a constant offset e_j on channel j moves
+        it by exactly the response of the same filter and smoother to that offset:
+            d_k^- = Phi_k d_{k-1},  d_k = d_k^- + K_k (e_j - H_k d_k^-)
+            d^s_k = d_k + G_k (d^s_{k+1} - d^-_{k+1})
+        (Schmidt's "consider" analysis: the estimate is not changed, its uncertainty
+        is)."""
+        passes = getattr(self, "last_passes", None)
+        if passes is None:
+            raise RuntimeError("offset_sensitivity: run() the smoother first")
+        n_s = self.n_state
+        out = np.full((self.pre.data.t.size, 6, 6), np.nan)
+        c = self._wind_rows()
+        r = np.diag(self.last_noise)
+        eye6 = np.eye(6)
+        with single_blas_thread():
+            for run, ps, lin in passes:
+                n = ps.mf.shape[0]
+                df = np.zeros((n, n_s, 6))
+                dp = np.zeros((n, n_s, 6))
+                d = np.zeros((n_s, 6))
+                for j in range(n):
+                    if j > 0:
+                        d = ps.phi[j] @ d
+                    dp[j] = d
+                    h_mat = self._h_matrix(lin.jz[j])
+                    ph = ps.pp[j] @ h_mat.T
+                    s_cov = h_mat @ ph + r
+                    try:
+                        np.linalg.cholesky(s_cov)
+                    except np.linalg.LinAlgError:
+                        df[j] = d  # the filter made no update here either
+                        continue
+                    gain = np.linalg.solve(s_cov, ph.T).T
+                    d = d + gain @ (eye6 - h_mat @ d)
+                    df[j] = d
+                ds = df.copy()
+                for k in range(n - 2, -1, -1):
+                    g = _smoother_gain(ps.pf[k] @ ps.phi[k + 1].T, ps.pp[k + 1])
+                    ds[k] = df[k] + g @ (ds[k + 1] - dp[k + 1])
+                out[run] = np.einsum("wi,kic->kwc", c, ds)
+        return out
+
+    def offset_std(self, offset_std) -> np.ndarray:
+        """(n, 6) the wind's std from steady channel offsets of std `offset_std` (6,),
+        independent per channel, that the estimate does not know of (the model's
+        still-air `model_error_offset`): sqrt(sum_j (S_kj sigma_j)^2) per component."""
+        sig = np.asarray(offset_std, dtype=float)
+        if sig.shape != (6,) or np.any(~np.isfinite(sig)) or np.any(sig < 0):
+            raise ValueError(f"offset_std must be 6 numbers >= 0, got {offset_std!r}")
+        sens = self.offset_sensitivity()
+        return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
 
     def _relinearise(self, run: slice, old: _Pass) -> _Lin:
         """Linearisation of a run along its previous smoothed trajectory."""
