@@ -14,8 +14,8 @@ own effect model instead, full-state pilot: "our own model", for comparison only
    `airwake calibrate` from the reference's Table 5.2 (the published calibration of this
    airframe class) on the parameters the flight identifies; `airwake model diagnose` on
    the same flight, and `airwake model add` of the effect its verdict names, when the fit
-   makes no channel worse. Its report says which wind components
-   the model can be trusted for.
+   makes no channel worse. Its report says which wind components the model can be
+   trusted for.
 1. `airwake sim run`: the truth world flies `ship_airwake_b0` (lateral sweeps behind the
    hangar), the native rover and base firmware read its VN200, Piksi, RC and rotor
    signals, the real daemon records them from the base's pty (stepped, deterministic).
@@ -77,6 +77,9 @@ def _airwake(*args: str, capture: bool = False):
     return None
 
 
+_BACKGROUND: list = []  # steps started beside the others, stopped if the demo stops
+
+
 def _start(*args: str, log: Path, stdout: Path | None = None):
     """Start one step in the background, its progress to `log` (shown when it ends) and
     its standard output to `stdout` (its JSON: `_finish` returns it) or to `log` too."""
@@ -86,7 +89,17 @@ def _start(*args: str, log: Path, stdout: Path | None = None):
     proc = subprocess.Popen([sys.executable, "-m", "airwake.cli", *args], cwd=REPO_ROOT,
                             stdout=out, stderr=fh if stdout is not None else subprocess.STDOUT,
                             text=True)
+    _BACKGROUND.append(proc)
     return proc, (fh, out), log, stdout, args, time.monotonic()
+
+
+def _stop_background() -> None:
+    """Stop the background steps still running (the demo stopped before waiting for them)."""
+    for proc in _BACKGROUND:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    _BACKGROUND.clear()
 
 
 def _finish(started):
@@ -106,6 +119,13 @@ def _finish(started):
 
 
 def main(argv: list[str] | None = None) -> int:
+    try:
+        return _demo(argv)
+    finally:
+        _stop_background()
+
+
+def _demo(argv: list[str] | None) -> int:
     p = argparse.ArgumentParser(prog="python -m hil_sim.boards.demo", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=str(REPO_ROOT / "build" / "demo"),
@@ -209,8 +229,8 @@ def discrepancy_step(still: Path, base: Path, out: Path) -> dict:
 def estimate_verdict(comp: dict, low: float = 0.8) -> str:
     """One paragraph on how far the wind estimate can be believed, from its score: which
     components' 90 % intervals hold the truth less than `low` of the time (a bias the
-    posterior does not know of: the model's own error on this airframe), and the largest
-    bias."""
+    posterior does not know of: the model's own error on this airframe), each with its
+    coverage and its bias."""
     names = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
              "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}
     short = [(names.get(n, n), c) for n, c in comp.items()]

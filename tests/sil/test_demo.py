@@ -107,3 +107,26 @@ def test_truth_arguments_fly_each_truth_with_its_pilot():
     assert truth_arguments("effects") == ["--truth", "effects"]
     with pytest.raises(ValueError, match="'jsbsim'"):
         truth_arguments("jsbsim")
+
+
+def test_a_step_that_fails_stops_the_demo_and_the_flight_beside_it(tmp_path):
+    """The ship flight runs beside the model steps: when one of those fails, the demo
+    stops with the failing command named and leaves no flight running."""
+    import os
+    from pathlib import Path
+
+    out = tmp_path / "demo"
+    done = subprocess.run(
+        [sys.executable, "-m", "hil_sim.boards.demo", "--out", str(out), "--duration", "10",
+         "--calibration-s", "-5"], cwd=REPO, capture_output=True, text=True, timeout=300)
+    assert done.returncode != 0
+    assert "demo: `airwake sim table` failed" in done.stderr, done.stderr[-1000:]
+    left = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            cmd = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
+        except OSError:
+            continue
+        if str(out) in cmd and "sim run" in cmd.replace("'", ""):
+            left.append(cmd)
+    assert not left, left
