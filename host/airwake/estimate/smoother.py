@@ -162,6 +162,7 @@ class _Pass:
     ms: np.ndarray = None
     ps: np.ndarray = None
     cs: np.ndarray = None
+    gain: np.ndarray = None  # (n, N, N) the RTS gains G_k (row n-1 unused)
     loglik: float = 0.0
 
 
@@ -448,15 +449,17 @@ class WindSmoother:
         ms = ps.mf.copy()
         pss = ps.pf.copy()
         cs = np.zeros_like(ps.pf)  # cs[k] = Cov(s_k, s_{k-1} | all)
+        gains = np.zeros_like(ps.pf)
         for k in range(n - 2, -1, -1):
             pred = ps.pp[k + 1]
             cross = ps.pf[k] @ ps.phi[k + 1].T
             g = _smoother_gain(cross, pred)
+            gains[k] = g
             ms[k] = ps.mf[k] + g @ (ms[k + 1] - ps.mp[k + 1])
             pk = ps.pf[k] + g @ (pss[k + 1] - pred) @ g.T
             pss[k] = 0.5 * (pk + pk.T)
             cs[k + 1] = pss[k + 1] @ g.T
-        ps.ms, ps.ps, ps.cs = ms, pss, cs
+        ps.ms, ps.ps, ps.cs, ps.gain = ms, pss, cs, gains
 
     # -- EM ---------------------------------------------------------------------------
     def _em(self, passes: list[tuple[slice, _Pass, _Lin]], prior: WindPrior,
@@ -575,8 +578,7 @@ class WindSmoother:
                     df[j] = d
                 ds = df.copy()
                 for k in range(n - 2, -1, -1):
-                    g = _smoother_gain(ps.pf[k] @ ps.phi[k + 1].T, ps.pp[k + 1])
-                    ds[k] = df[k] + g @ (ds[k + 1] - dp[k + 1])
+                    ds[k] = df[k] + ps.gain[k] @ (ds[k + 1] - dp[k + 1])
                 out[run] = np.einsum("wi,kic->kwc", c, ds)
         return out
 
