@@ -118,3 +118,22 @@ def test_a_bad_offset_table_is_refused_naming_it(tmp_path):
     path = spec_with_offset(tmp_path / "bad.toml", FLOOR, [0.1, -0.2, 0.3, 0, 0, 0])
     with pytest.raises(WindEstimationError, match="model_error_offset"):
         model_error_floor(path, "model_error_offset")
+
+
+def test_the_flights_own_accelerometer_bias_joins_the_models_steady_misfit(tiny_wind_file,
+                                                                        tmp_path):
+    spec = spec_with_offset(tmp_path / "o.toml", FLOOR, [0.02, 0.0, 0.05, 0.3, 0.3, 0.3])
+    base = estimate_wind(tiny_wind_file, spec_with_floor(tmp_path / "f.toml", FLOOR),
+                         em_passes=2)
+    both = estimate_wind(tiny_wind_file, spec, em_passes=2, accel_bias_std=0.01)
+    names = [f"{n}_std" for n in ("wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s",
+                                  "wind_wx_rad_s", "wind_wy_rad_s", "wind_wz_rad_s")]
+    forces = np.hypot([0.02, 0.0, 0.05], 0.01).tolist() + [0.0, 0.0, 0.0]
+    grown = both.df[names].to_numpy() ** 2 - base.df[names].to_numpy() ** 2
+    np.testing.assert_allclose(grown, both.smoother.offset_std(forces) ** 2, rtol=1e-9,
+                               atol=1e-12)
+    assert both.metadata["accel_bias_std_m_s2"] == 0.01
+    with pytest.raises(WindEstimationError, match="--accel-bias-std"):
+        estimate_wind(tiny_wind_file, spec, accel_bias_std=-0.01)
+    with pytest.raises(WindEstimationError, match="--method smoother"):
+        estimate_wind(tiny_wind_file, spec, method="apf", accel_bias_std=0.01)

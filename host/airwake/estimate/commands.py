@@ -58,7 +58,8 @@ def _handle(args: argparse.Namespace) -> int:
     est = estimate_wind(
         ft, model=args.model, method=args.method, cutoff_hz=args.cutoff_hz,
         rate_hz=args.rate_hz, em_passes=args.em_passes, airspeed_m_s=args.airspeed_m_s,
-        ins_velocity_std=args.ins_velocity_std, n_particles=args.particles,
+        ins_velocity_std=args.ins_velocity_std, accel_bias_std=args.accel_bias_std,
+        n_particles=args.particles,
         sigma=args.sigma, resampler=args.resampler, ess_threshold=args.ess_threshold,
         jitter=args.jitter, seed=args.seed, process_std=args.process_std,
         channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress,
@@ -174,6 +175,11 @@ def register(subparsers) -> None:
                    help="INS velocity error, 1 sigma (m/s), added to the mean-flow std "
                    "(default: measured on the flight against its GNSS velocity; the "
                    "VN-200 datasheet's 0.05 m/s, said so, when it has none)")
+    p.add_argument("--accel-bias-std", type=float, default=None, metavar="M_S2",
+                   help="smoother: the INS's residual accelerometer bias on this flight, 1 "
+                   "sigma per axis (m/s^2; its data sheet): a steady force the estimate "
+                   "cannot tell from a steady wind, added to the model's own steady misfit "
+                   "in the intervals (default: none given, only the model's)")
     p.add_argument("--particles", type=int, default=2000, help="apf: particles (2000)")
     p.add_argument("--seed", type=int, default=0, help="apf: random seed (0)")
     p.add_argument("--sigma", type=float, default=0.5,

@@ -66,6 +66,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   cutoff_hz: float | None = None, rate_hz: float | None = None,
                   em_passes: int | None = None, airspeed_m_s: float | None = None,
                   ins_velocity_std: float | None = None,
+                  accel_bias_std: float | None = None,
                   n_particles: int = 2000, sigma: float = 0.5,
                   resampler: str = "systematic", ess_threshold: float | None = None,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
@@ -83,7 +84,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     wind network (`net`: its .pt file or the loaded net; `model` unused) per flight sample.
     ins_velocity_std: the INS velocity error (1 sigma, m/s) added to the mean-flow std;
     None (default) measures it on the flight against its GNSS velocity
-    (`airwake.estimate.ins_error`)."""
+    (`airwake.estimate.ins_error`). accel_bias_std (smoother): the INS's residual
+    accelerometer bias on this flight (1 sigma per axis, m/s^2, from its data sheet), a
+    steady force joined to the model's `model_error_offset` in the intervals."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -98,6 +101,13 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                                              and ins_velocity_std >= 0):
         raise WindEstimationError(
             f"--ins-velocity-std {ins_velocity_std!r}: must be a number >= 0")
+    if accel_bias_std is not None and not (np.isfinite(accel_bias_std)
+                                           and accel_bias_std >= 0):
+        raise WindEstimationError(
+            f"--accel-bias-std {accel_bias_std!r}: must be a number >= 0 (m/s^2)")
+    if accel_bias_std is not None and method != "smoother":
+        raise WindEstimationError("--accel-bias-std widens the smoother's intervals: it is "
+                                  f"for --method smoother, not {method}")
     if (method == "net") != (net is not None):
         raise WindEstimationError("--method net needs --net WIND.pt (and --net needs "
                                   "--method net)")
@@ -130,6 +140,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         offset = model_error_floor(model, "model_error_offset")
         meta["model_error_std"] = None if floor is None else floor.tolist()
         meta["model_error_offset"] = None if offset is None else offset.tolist()
+        meta["accel_bias_std_m_s2"] = accel_bias_std
+        if accel_bias_std:
+            # the flight's own sensor bias and the model's steady misfit, independent
+            offset = np.zeros(6) if offset is None else offset.copy()
+            offset[:3] = np.hypot(offset[:3], accel_bias_std)
         df, extra, seconds, smoother, result = _run_smoother(
             heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
             airspeed_m_s, ins_velocity_std, progress, floor, offset)
