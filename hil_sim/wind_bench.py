@@ -86,15 +86,11 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
          "--out", str(still))
     _cli("calibrate", str(still), "--model", "table52", "--max-windows", "24", "--out",
          str(base))
-    verdict = json.loads(_cli("model", "diagnose", str(still), "--model", str(base),
-                              "--no-sindy", "--json", "--quiet"))["verdict"]
-    shutil.copy(base, spec)
-    if verdict["kind"] == "effect":
-        added = d / "added.toml"
-        fit = json.loads(_cli("model", "add", verdict["effect"], "--data", str(still),
-                              "--model", str(base), "--out", str(added), "--json", "--quiet"))
-        if not fit["worse_channels"]:
-            shutil.copy(added, spec)
+    from hil_sim.boards.demo import discrepancy_step
+
+    step = discrepancy_step(still, base, d / "added.toml",
+                            run=lambda *args: json.loads(_cli(*args, "--quiet")))
+    shutil.copy(step["model"], spec)
     rec = d / "recording"
     if rec.exists():
         shutil.rmtree(rec)

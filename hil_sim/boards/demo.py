@@ -199,15 +199,20 @@ def truth_arguments(truth: str) -> list[str]:
     return ["--truth", truth] + (["--pilot", pilot] if pilot else [])
 
 
-def discrepancy_step(still: Path, base: Path, out: Path) -> dict:
+def discrepancy_step(still: Path, base: Path, out: Path, run=None) -> dict:
     """calibrate -> diagnose -> add, as docs/calibration.md has a user do it: diagnose the
     calibrated model on its still-air flight and add the effect its verdict names (none
     when the verdict is "calibrate", "wind" or "none"), keeping the calibrated model when
     the fitted effect makes a channel worse. Returns {"model": the spec to use,
     "diagnosis": the verdict's text, "ranked": the first candidates, "added": the effect or
-    None, "why": one line, "before"/"after": per-channel RMS of the fit when added}."""
-    diag = _airwake("model", "diagnose", str(still), "--model", str(base), "--no-sindy",
-                    "--refine", DIAGNOSE_REFINE, "--json", capture=True)
+    None, "why": one line, "before"/"after": per-channel RMS of the fit when added}.
+    `run(*args)`: runs one `airwake` command with --json and returns its JSON (default: as
+    the demo shows it, `_airwake`)."""
+    if run is None:
+        def run(*args):
+            return _airwake(*args, capture=True)
+    diag = run("model", "diagnose", str(still), "--model", str(base), "--no-sindy",
+               "--refine", DIAGNOSE_REFINE, "--json")
     step = {"model": base, "diagnosis": diag["verdict"]["text"], "ranked": _candidates(diag),
             "added": None}
     effect = diag["verdict"]["effect"] if diag["verdict"]["kind"] == "effect" else None
@@ -215,8 +220,8 @@ def discrepancy_step(still: Path, base: Path, out: Path) -> dict:
         step["why"] = ("the diagnosis names no effect to add "
                        f"({diag['verdict']['kind']}): the calibrated model is used")
         return step
-    add = _airwake("model", "add", effect, "--data", str(still), "--model", str(base),
-                   "--out", str(out), "--json", capture=True)
+    add = run("model", "add", effect, "--data", str(still), "--model", str(base),
+              "--out", str(out), "--json")
     if add["worse_channels"]:
         step["why"] = (f"{effect} as fitted made {', '.join(add['worse_channels'])} "
                        "worse: the calibrated model is kept")

@@ -116,16 +116,13 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
         result.rms_before = start_rms
         result.start = start_values[free]
     envelope = flight_envelope(data, model)
-    # what of the fitted model's misfit holds for a window (module doc of model_error)
-    offset = pred.channel_stats(result.model.parameter_vector()[None])[1][0]
     result.notes[:0] = held
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
                        scored_samples=int(windows.n_scored), seed=int(seed),
                        held=list(held), front_end=front, envelope=envelope,
                        rms_after_weighting_fit=None if weighted_start is None else
                        [float(v) for v in weighted_start],
-                       wind_trust=wind_trust(envelope),
-                       model_error_offset=[float(v) for v in offset])
+                       wind_trust=wind_trust(envelope))
     return result
 
 
@@ -142,10 +139,11 @@ def model_error_std(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 
 
 def model_error(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 2.0,
                 warmup_s: float = 1.0):
-    """((6,), (6,)): `model_error_std`, and the RMS over the windows of each window's mean
-    residual — `[calibration] model_error_offset`, what of the misfit holds for a window
-    (a body-fixed force or moment: the flight condition's model error, the accelerometers'
-    turn-on bias), which the wind estimator cannot tell from a steady wind."""
+    """((6,), (6,)): `model_error_std`, and its steady part — `[calibration]
+    model_error_offset`, the RMS over blocks of the flight (`residuals.OFFSET_BLOCK_S`) of
+    each block's mean residual: a body-fixed force or moment (the flight condition's model
+    error, the accelerometers' turn-on bias) the wind estimator cannot tell from a steady
+    wind."""
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
     from airwake.heli import load_model
 

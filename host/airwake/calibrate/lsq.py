@@ -131,7 +131,7 @@ def fit_lsq(model, predictor: WindowedPredictor, free: np.ndarray, max_nfev: int
     names = [n for n, f in zip(model.parameter_names, free, strict=True) if f]
     unc = uncertainty(jac_p, r, names, full[free], at_bound)
     notes, ident = identifiability_notes(names, full[free], unc, at_bound)
-    rms_after = predictor.channel_rms(full[None])[0]
+    rms_after, offset_after = (v[0] for v in predictor.channel_stats(full[None]))
     return FitResult(
         method="lsq", model=fitted, names=names, start=full0[free], values=full[free],
         std=unc.std, correlation=unc.correlation, at_bound=at_bound, identifiable=ident,
@@ -141,5 +141,6 @@ def fit_lsq(model, predictor: WindowedPredictor, free: np.ndarray, max_nfev: int
         info={"status": int(res.status), "message": str(res.message),
               "nfev": nfev + int(res.nfev), "njev": njev + int(prob.n_jac),
               "stages": "; ".join(stages), "residual_sigma": float(np.sqrt(unc.sigma2)),
-              "condition": float(unc.condition)},
+              "condition": float(unc.condition),
+              "model_error_offset": [float(v) for v in offset_after]},
     )

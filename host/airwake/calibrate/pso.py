@@ -127,7 +127,7 @@ def fit_pso(model, predictor: WindowedPredictor, free: np.ndarray, rng,
     best = st.global_best
     fitted = model.with_parameters(best)
     rms_before = predictor.channel_rms(full0[None])[0]
-    rms_after = predictor.channel_rms(best[None])[0]
+    rms_after, offset_after = (v[0] for v in predictor.channel_stats(best[None]))
     names = [n for n, f in zip(model.parameter_names, free, strict=True) if f]
     # uncertainty from a finite-difference Jacobian at the swarm's answer (same analysis
     # as the least-squares fit, so the two calibrators' reports compare)
@@ -149,5 +149,6 @@ def fit_pso(model, predictor: WindowedPredictor, free: np.ndarray, rng,
         seconds=time.perf_counter() - t0,
         info={"particles": int(n_particles), "iterations": int(iterations),
               "pso_windows": int(sub.windows.n_windows),
-              "residual_sigma": float(np.sqrt(unc.sigma2))},
+              "residual_sigma": float(np.sqrt(unc.sigma2)),
+              "model_error_offset": [float(v) for v in offset_after]},
     )
