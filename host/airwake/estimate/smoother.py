@@ -76,6 +76,8 @@ LEARN = ("sigma", "noise")
 SIGMA_FLOOR = np.array([0.02, 0.02, 0.02, 0.01, 0.01, 0.01])
 MEAN_WALK_FLOOR = 1e-3
 NOISE_FLOOR = 1e-4
+NOISE_AR_ORDER = 4  # the bound's channel-error model: AR(4) per channel (docs: the spectra)
+NOISE_WHITE_FRACTION = 1e-3  # white noise added to the bound's AR channel error (conditioning)
 FD_STEP_H = 1e-6
 DEAD_VARIANCE = 1e-20  # of the largest predicted variance: a state nothing uncertain reaches
 FD_STEP_W = 1e-4
@@ -164,6 +166,94 @@ class _Pass:
     cs: np.ndarray = None
     gain: np.ndarray = None  # (n, N, N) the RTS gains G_k (row n-1 unused)
     loglik: float = 0.0
+
+
+@dataclass
+class ChannelNoise:
+    """Each measured channel's error as a Gaussian process: an AR(p) part
+        n_k = sum_i ar[c, i] n_{k-i} + e_k,  Var e_k = innovation_var[c]
+    at the front end's sample rate, plus white noise of variance white_var[c]. Fitted to
+    a residual by `fit` (Yule-Walker), or white (`white`)."""
+
+    ar: np.ndarray  # (6, p)
+    innovation_var: np.ndarray  # (6,)
+    white_var: np.ndarray  # (6,)
+
+    @property
+    def order(self) -> int:
+        return int(self.ar.shape[1])
+
+    @classmethod
+    def white(cls, std) -> ChannelNoise:
+        std = np.asarray(std, dtype=float)
+        if std.shape != (6,) or np.any(~np.isfinite(std)) or np.any(std <= 0):
+            raise ValueError(f"noise std must be 6 positive numbers, got {std!r}")
+        return cls(np.zeros((6, 0)), np.zeros(6), std**2)
+
+    @classmethod
+    def fit(cls, residual: np.ndarray, runs, order: int = NOISE_AR_ORDER,
+            white_fraction: float = NOISE_WHITE_FRACTION) -> ChannelNoise:
+        """Yule-Walker AR(`order`, less on a residual under 10 (order + 1) rows) per
+        channel of `residual` (n, 6) over the contiguous `runs` (slices; rows with a
+        non-finite value dropped from their run), each channel about its mean over the
+        flight (a steady part is an offset, not noise). The autocovariances are pooled
+        over the runs (the biased estimator: a positive definite Toeplitz matrix, so a
+        stable AR). A white part of `white_fraction` of each channel's variance is added
+        on top (it keeps the innovation covariance well conditioned)."""
+        from scipy.linalg import solve_toeplitz
+
+        e = np.asarray(residual, dtype=float)
+        if e.ndim != 2 or e.shape[1] != 6:
+            raise ValueError(f"the residual must be (n, 6), got {e.shape}")
+        ok = np.all(np.isfinite(e), axis=1)
+        if ok.sum() < 10:
+            raise ValueError(f"a residual of at least 10 finite rows is needed for a noise "
+                             f"model, got {int(ok.sum())} finite of {e.shape[0]}")
+        order = min(int(order), int(ok.sum()) // 10 - 1)  # >= 10 rows per coefficient
+        e = e - e[ok].mean(axis=0)
+        acov = np.zeros((order + 1, 6))
+        count = 0
+        for run in runs:
+            seg = e[run][ok[run]]
+            count += seg.shape[0]
+            for lag in range(min(order + 1, seg.shape[0])):
+                acov[lag] += np.sum(seg[:seg.shape[0] - lag] * seg[lag:], axis=0)
+        acov /= max(count, 1)
+        var = acov[0]
+        if np.any(var <= 0):
+            raise ValueError(f"a channel of the residual is constant (variance {var!r})")
+        ar = np.zeros((6, order))
+        innov = np.zeros(6)
+        for c in range(6):
+            if order:
+                ar[c] = solve_toeplitz(acov[:order, c], acov[1:order + 1, c])
+            innov[c] = max(var[c] - ar[c] @ acov[1:order + 1, c], 1e-12 * var[c])
+        return cls(ar, innov, white_fraction * var)
+
+    def stationary_covariance(self) -> np.ndarray:
+        """(6p, 6p) the AR states' stationary covariance (channels independent)."""
+        from scipy.linalg import solve_discrete_lyapunov
+
+        p = self.order
+        out = np.zeros((6 * p, 6 * p))
+        for c in range(6):
+            if not p:
+                break
+            f = np.zeros((p, p))
+            f[0] = self.ar[c]
+            f[np.arange(1, p), np.arange(p - 1)] = 1.0
+            q = np.zeros((p, p))
+            q[0, 0] = self.innovation_var[c]
+            blk = solve_discrete_lyapunov(f, q)
+            out[c * p:(c + 1) * p, c * p:(c + 1) * p] = 0.5 * (blk + blk.T)
+        return out
+
+    def std(self) -> np.ndarray:
+        """(6,) each channel's total std (AR part's stationary variance + white)."""
+        cov = self.stationary_covariance()
+        p = self.order
+        ar_var = np.array([cov[c * p, c * p] for c in range(6)]) if p else np.zeros(6)
+        return np.sqrt(ar_var + self.white_var)
 
 
 class WindSmoother:
@@ -633,7 +723,8 @@ class WindSmoother:
                     out[k], _ = self._measurement_lin(k, point)
         return out
 
-    def bound(self, wind: np.ndarray, prior: WindPrior, noise_std) -> np.ndarray:
+    def bound(self, wind: np.ndarray, prior: WindPrior, noise_std,
+              offset_std=None) -> np.ndarray:
         """(n, 6) posterior Cramer-Rao lower bound (std) of each wind component at every
         kept sample, for the wind trajectory `wind` (n, 6) (the truth, or an estimate),
         the prior and the channel noise `noise_std` (6,).
@@ -644,11 +735,35 @@ class WindSmoother:
         smoothed (whole-flight) estimate the bound is the RTS covariance. The rotor states
         along the truth are integrated with the same exponential step as the filter, the
         wind held at `wind`. Only the model's sensitivities, the noise and the prior
-        enter: no measurement."""
+        enter: no measurement.
+
+        noise_std: (6,) white channel noise, or a `ChannelNoise` — each channel's error as
+        a coloured (autoregressive) Gaussian process, the model's misfit as it is: a
+        misfit whose power sits at low frequency informs a slow wind less than white
+        noise of the same RMS, one at high frequency more. offset_std (6,), optional:
+        steady channel offsets (the model's still-air `model_error_offset`, an
+        accelerometer's turn-on bias) as nuisance parameters, random constants of that
+        prior std (0: none on that channel). Both enter as states of an augmented
+        Gauss-Markov system (the AR process in companion form, the offsets constant), and
+        the bound is the wind's marginal of its RTS covariance (`_bound_augmented`).
+        Offsets are common to a run; runs are taken one by one (a flight with gaps gets
+        no information about the offsets across them: a bound no lower than the exact
+        one)."""
         m, n_s = self.m, self.n_state
         d = self.pre.data
         wind = np.asarray(wind, dtype=float)
-        r_diag = np.asarray(noise_std, float) ** 2
+        coloured = isinstance(noise_std, ChannelNoise)
+        if offset_std is not None:
+            offset_std = np.asarray(offset_std, dtype=float)
+            if (offset_std.shape != (6,) or np.any(~np.isfinite(offset_std))
+                    or np.any(offset_std < 0)):
+                raise ValueError(f"offset_std must be 6 numbers >= 0, got {offset_std!r}")
+            if not np.any(offset_std > 0):
+                offset_std = None
+        if not coloured and offset_std is not None:
+            noise_std = ChannelNoise.white(noise_std)
+            coloured = True
+        r_diag = None if coloured else np.asarray(noise_std, float) ** 2
         out = np.full((d.t.size, 6), np.nan)
         c = self._wind_rows()
         with single_blas_thread():
@@ -671,11 +786,88 @@ class WindSmoother:
                         point[self.xi] = 0.0
                     lin.mp[j] = point
                     lin.z0[j], lin.jz[j] = self._measurement_lin(k, point)
+                if coloured:
+                    cov = self._bound_augmented(run, lin, prior, noise_std, offset_std,
+                                                wind[idx[0]])
+                    out[run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, cov, c), 0))
+                    continue
                 ps, _ = self._forward(run, prior, r_diag, lin, online=False,
                                       wind0=wind[idx[0]])
                 self._backward(ps)
                 out[run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
         return out
+
+    def _bound_augmented(self, run: slice, lin: _Lin, prior: WindPrior,
+                         noise: ChannelNoise, offset_std, wind0) -> np.ndarray:
+        """(n, N, N) the smoothed covariance of the model's states along `lin` when the
+        channel noise is `noise` (AR(p) per channel plus white) and steady offsets of std
+        `offset_std` (or None) add to the channels: a covariance-only Kalman filter and RTS
+        smoother over [states | each channel's last p noise values | the offsets]."""
+        n_s = self.n_state
+        d = self.pre.data
+        p_ar = noise.order
+        on = np.zeros(6, bool) if offset_std is None else offset_std > 0
+        n_b = int(on.sum())
+        n_a = n_s + 6 * p_ar + n_b
+        ar = slice(n_s, n_s + 6 * p_ar)
+        b = slice(n_s + 6 * p_ar, n_a)
+        # transition of the noise block (companion form per channel) and its innovation
+        f_ar = np.zeros((6 * p_ar, 6 * p_ar))
+        q_ar = np.zeros((6 * p_ar, 6 * p_ar))
+        sel = np.zeros((6, n_a))  # which augmented states add to each channel
+        for ch in range(6):
+            o = ch * p_ar
+            if p_ar:
+                f_ar[o, o:o + p_ar] = noise.ar[ch]
+                f_ar[o + np.arange(1, p_ar), o + np.arange(p_ar - 1)] = 1.0
+                q_ar[o, o] = noise.innovation_var[ch]
+                sel[ch, n_s + o] = 1.0
+        sel[np.flatnonzero(on), b] = np.eye(n_b)
+        r = np.diag(noise.white_var)
+        idx = np.arange(run.start, run.stop)
+        n = idx.size
+        _, p0 = self._initial(idx[0], prior, wind0)
+        p = np.zeros((n_a, n_a))
+        p[:n_s, :n_s] = p0
+        p[ar, ar] = noise.stationary_covariance()
+        if n_b:
+            p[b, b] = np.diag(offset_std[on] ** 2)
+        qc = np.concatenate([np.zeros(self.m), prior.diffusion()])
+        pf = np.empty((n, n_a, n_a))
+        pp = np.empty((n, n_a, n_a))
+        phis = np.zeros((n, n_a, n_a))
+        eye = np.eye(n_a)
+        for j, k in enumerate(idx):
+            if j > 0:
+                a, drift = self._system(lin.f0[j], lin.jt[j], lin.tp[j], lin.tp[j], prior)
+                phi_s, q_s, _ = self._discretise(a, drift, qc, d.t[k] - d.t[k - 1], lin.fr[j])
+                phi = eye.copy()
+                phi[:n_s, :n_s] = phi_s
+                phi[ar, ar] = f_ar
+                p = phi @ p @ phi.T
+                p[:n_s, :n_s] += q_s
+                p[ar, ar] += q_ar
+                phis[j] = phi
+            pp[j] = p
+            h_aug = sel.copy()
+            h_aug[:, :n_s] = self._h_matrix(lin.jz[j])
+            ph = p @ h_aug.T
+            s_cov = h_aug @ ph + r
+            try:
+                gain = np.linalg.solve(s_cov, ph.T).T
+            except np.linalg.LinAlgError:
+                pf[j] = p
+                continue
+            ikh = eye - gain @ h_aug
+            p = ikh @ p @ ikh.T + gain @ r @ gain.T
+            p = 0.5 * (p + p.T)
+            pf[j] = p
+        ps = pf.copy()
+        for k in range(n - 2, -1, -1):
+            g = _smoother_gain(pf[k] @ phis[k + 1].T, pp[k + 1])
+            pk = pf[k] + g @ (ps[k + 1] - pp[k + 1]) @ g.T
+            ps[k] = 0.5 * (pk + pk.T)
+        return ps[:, :n_s, :n_s]
 
     def _result(self, passes, prior, noise_std, history, seconds) -> SmootherResult:
         n = self.pre.data.t.size

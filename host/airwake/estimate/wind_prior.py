@@ -88,6 +88,34 @@ class WindPrior:
         return WindPrior(self.sigma.copy(), self.tau_s.copy(), self.mean_walk.copy(),
                          self.mean_std0.copy(), dict(self.source))
 
+    def fitted_to(self, wind, t, floor=None) -> WindPrior:
+        """A copy whose turbulence std `sigma` describes the wind trajectory `wind` (n, 6)
+        sampled at times `t` (n,): the Gauss-Markov innovation of each component about its
+        mean at this prior's tau, q = mean (w_k+1 - a w_k)^2 with a = exp(-dt / tau) over
+        the regular steps (a gap of more than 1.5 median steps breaks the chain), sigma =
+        sqrt(q / (1 - a^2)) (the EM's update with the trajectory in place of its smoothed
+        states), floored at `floor`. What the bound at the truth uses: the prior that
+        describes the air actually flown through."""
+        w = np.asarray(wind, dtype=float)
+        t = np.asarray(t, dtype=float)
+        if w.ndim != 2 or w.shape[1] != 6 or t.shape != (w.shape[0],) or w.shape[0] < 3:
+            raise ValueError(f"wind must be (n >= 3, 6) with t (n,), got {w.shape} and "
+                             f"{t.shape}")
+        ok = np.all(np.isfinite(w), axis=1)
+        w = w - w[ok].mean(axis=0)
+        dt = np.diff(t)
+        step = np.median(dt)
+        pair = ok[1:] & ok[:-1] & (dt > 0) & (dt <= 1.5 * step)
+        if not pair.any():
+            raise ValueError("the wind trajectory has no two consecutive finite samples")
+        a = np.exp(-dt[pair, None] / self.tau_s)
+        q = np.mean((w[1:][pair] - a * w[:-1][pair]) ** 2, axis=0)
+        sigma = np.sqrt(q / (1.0 - np.exp(-2.0 * step / self.tau_s)))
+        out = self.copy()
+        out.sigma = np.maximum(sigma, 1e-9 if floor is None else floor)
+        out.source = {**out.source, "sigma": "fitted to a wind trajectory"}
+        return out
+
     # -- the linear SDE of the 12 wind states [mu (6), xi (6)] --------------------------
     def drift_matrix(self) -> np.ndarray:
         """(12, 12): d[mu, xi]/dt = F [mu, xi] + noise."""
