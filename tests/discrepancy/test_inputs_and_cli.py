@@ -148,3 +148,32 @@ def test_an_added_effect_that_makes_a_channel_worse_is_named():
     res = AddResult("dynamic_inflow", None, None, before, after, None, None)
     assert res.worse_channels() == [MEAS_CHANNELS[2]]
     assert res.worse_channels(tolerance=0.0) == [MEAS_CHANNELS[2], MEAS_CHANNELS[4]]
+
+
+def test_a_refinement_that_fails_its_screening_does_not_outrank_the_next_candidate(
+        lever, monkeypatch):
+    # the screening's best candidate, refined, explains nothing: the next candidate's
+    # screening beats that, so it is refined too and heads the ranking (before, with
+    # refine_top=1, every refined candidate ranked above every unrefined one)
+    from airwake.discrepancy import diagnose as diag_mod
+
+    real = diag_mod.refine
+    refined = []
+
+    def refine(an, cand, res, **kw):
+        refined.append(res.name)
+        if len(refined) == 1:  # the first refinement does not bear out its screening
+            res.refined, res.explained = True, -0.01
+            res.contribution = np.zeros_like(an.zhat)
+            res.rms_after = np.sqrt(np.mean(an.residual_band[an.mask] ** 2, 0))
+            return
+        real(an, cand, res, **kw)
+
+    monkeypatch.setattr(diag_mod, "refine", refine)
+    # on this flight imu_lever_arm screens 1.00, accel_misalignment 0.03
+    d = diagnose(truth_model(), lever, candidates=["imu_lever_arm", "accel_misalignment"],
+                 refine_top=1, sindy=False, model_calibrated=True)
+    tested = [r for r in d.ranked if r.testable]
+    assert len(refined) == 2 and refined[0] != refined[1]
+    assert tested[0].name == refined[1] and tested[0].refined
+    assert tested[0].explained > tested[1].explained == -0.01

@@ -11,7 +11,10 @@ For each candidate effect E of the catalogue (`candidates.py`) that the flight c
    with the residual's effective sample size (autocorrelation-corrected, Geyer's initial
    positive sequence per channel) as denominator degrees of freedom.
 2. **Refine** (nonlinear, the top few): `fit.fit_parameters` on E's fit parameters from
-   the linear estimate; the refined explained share ranks the refined candidates.
+   the linear estimate; the refined explained share ranks the refined candidates, and
+   refinement goes on down the list while an unrefined candidate's cross-validated
+   screening share beats the best refined share (a screening the nonlinear fit does not
+   bear out cannot put a candidate above a better one left unrefined).
 3. **Decide**: significant when p < alpha / (number of candidates tested) *and* the
    cross-validated explained share >= min_explained *and* the explained RMS reaches
    min_noise_ratio x the noise floor in some channel (a practical effect size: with 10^4
@@ -324,9 +327,8 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
         results.append(_screen_wind(an, blocks, n_eff, y))
     results.sort(key=lambda r: -r.cv_explained)
     by_name = {c.name: c for c in cands}
-    for res in results[:refine_top]:
-        if res.cv_explained <= 0:
-            continue
+
+    def refine_one(res):
         if res.name == WIND_CANDIDATE:
             res.params, res.contribution = wind_mod.refine(an, res.linear_params)
             res.wind = wind_mod.describe(res.params, an.flight)
@@ -334,6 +336,19 @@ def diagnose(model, flight, settings: AnalysisSettings | None = None, *,
             _score_contribution(an, res)
         else:
             refine(an, by_name[res.name], res)
+
+    for res in results[:refine_top]:
+        if res.cv_explained > 0:
+            refine_one(res)
+    # refined candidates rank above unrefined ones, so a screening estimate the nonlinear
+    # fit did not bear out must not leave a better-screened candidate unrefined below it:
+    # refine on down the list while the best unrefined screening beats the best refinement
+    while True:
+        best = max((r.explained for r in results if r.refined), default=None)
+        rest = [r for r in results if not r.refined and r.cv_explained > 0]
+        if best is None or not rest or rest[0].cv_explained <= best:
+            break
+        refine_one(rest[0])
     for res in results:
         if not res.refined:
             x = res.sens
