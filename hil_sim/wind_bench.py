@@ -16,9 +16,11 @@ each after a warm-up that loads the compiled model kernels:
 - `wind_estimator_realtime_factor`: the default estimator (smoother), flight seconds per
   wall second; `wind_error_std_*`, `wind_error_mean_*`, `wind_correlation_*`,
   `wind_coverage90_*` against the truth after 2 s; `wind_crlb_std_*` the posterior
-  Cramer-Rao bound at the truth (the channels' true noise after the front end, the
-  learned prior, the INS velocity error) and `wind_error_over_crlb_*` the error RMS over
-  it; `table53_std_*` the reference's real-flight error std beside them.
+  Cramer-Rao bound at the truth (`airwake.estimate.wind.wind_bound`: the channels' error
+  at the true wind — the model's misfit and the sensor noise — as a coloured AR process
+  per channel, the considered steady offsets as nuisance parameters, the truth's own
+  turbulence as the prior, the INS velocity error) and `wind_error_over_crlb_*` the
+  error RMS over it; `table53_std_*` the reference's real-flight error std beside them.
 - `apf_realtime_factor`: the reference's particle filter (eq 5.17, roulette wheel every
   sample, 2000 particles) on the same flight, on the front end at 30 Hz;
   `apf_realtime_factor_cpu` per CPU second; `apf_peak_rss_mb` the child's peak memory

@@ -56,6 +56,12 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
                  "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}[name]
         assert (f"{short} ({100 * c['coverage_90']:.0f} %" in paragraph) == (
             c["coverage_90"] < 0.8), (name, c["coverage_90"], paragraph)
+    # the Cramer-Rao bound at the truth is a bound on this airframe: the model's own misfit
+    # (coloured) and the air's turbulence in it, no component's error below it
+    est = json.loads((out / "wind_estimate.json").read_text())["score"]
+    assert est["crlb"]["at"] == "truth" and "AR(" in est["crlb"]["noise_model"]
+    for name, c in comp.items():
+        assert c["crlb_std"] > 0 and c["error_over_crlb"] >= 0.95, (name, c)
     # calibrate -> diagnose -> add, as docs/calibration.md has a user do it
     step = json.loads((out / "discrepancy_step.json").read_text())
     assert step["diagnosis"] in html or html_escape(step["diagnosis"]) in html

@@ -18,7 +18,8 @@ def print_score(score: dict, stream=None) -> None:
           f"{c['truth_std']:>10.3f}{c['posterior_std_mean']:>10.3f}{c['coverage_90']:>7.2f}"
           f"{c['table_5_3_mean']:>10.4f}{c['table_5_3_std']:>9.4f}\n")
     if "crlb" in score:
-        w(f"\nCramer-Rao bound (posterior, at the {score['crlb']['at']}; channel noise "
+        w(f"\nCramer-Rao bound (posterior, at the {score['crlb']['at']}; the model's channel "
+          f"error {score['crlb'].get('noise_model', 'white')}, RMS "
           + " ".join(f"{v:.3g}" for v in score["crlb"]["noise_std"]) + ")\n")
         w(f"{'component':<15}{'error RMS':>10}{'bound':>8}{'ratio':>7}\n")
         for name, c in score["components"].items():

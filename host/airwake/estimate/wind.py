@@ -522,5 +522,6 @@ def score_bound(score: dict, bound: dict, wind_df) -> dict:
         c = score["components"][name]
         c["crlb_std"] = float(np.sqrt(np.mean(b * b)))
         c["error_over_crlb"] = c["error_rms"] / c["crlb_std"] if c["crlb_std"] > 0 else None
-    score["crlb"] = {"at": bound["at"], "noise_std": [float(v) for v in bound["noise_std"]]}
+    score["crlb"] = {"at": bound["at"], "noise_std": [float(v) for v in bound["noise_std"]],
+                     "noise_model": bound.get("noise_model", "white")}
     return score
