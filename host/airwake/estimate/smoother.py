@@ -168,6 +168,13 @@ class _Pass:
     loglik: float = 0.0
 
 
+def _offset_stds(offset_std) -> np.ndarray:
+    sig = np.asarray(offset_std, dtype=float)
+    if sig.shape != (6,) or np.any(~np.isfinite(sig)) or np.any(sig < 0):
+        raise ValueError(f"offset_std must be 6 numbers >= 0, got {offset_std!r}")
+    return sig
+
+
 @dataclass
 class ChannelNoise:
     """Each measured channel's error as a Gaussian process: an AR(p) part
@@ -269,7 +276,7 @@ class WindSmoother:
 
     def __init__(self, model, pre: Prefiltered, prior: WindPrior, noise_std=None,
                  iterations: int = ITERATIONS, relinearise: int = RELINEARISE,
-                 learn=LEARN, source_data=None, noise_floor=None) -> None:
+                 learn=LEARN, noise_floor=None) -> None:
         if iterations < 1:
             raise ValueError(f"iterations = {iterations!r}: must be >= 1")
         unknown = set(learn) - set(LEARN)
@@ -277,7 +284,6 @@ class WindSmoother:
             raise ValueError(f"learn: unknown item(s) {sorted(unknown)}; known {list(LEARN)}")
         self.model = model
         self.pre = pre
-        self.source_data = source_data  # the full-rate FlightData (for the bound's noise)
         self.prior = prior.copy()
         self.iterations = int(iterations)
         self.relinearise = max(1, min(int(relinearise), self.iterations))
@@ -676,9 +682,7 @@ class WindSmoother:
         """(n, 6) the wind's std from steady channel offsets of std `offset_std` (6,),
         independent per channel, that the estimate does not know of (the model's
         still-air `model_error_offset`): sqrt(sum_j (S_kj sigma_j)^2) per component."""
-        sig = np.asarray(offset_std, dtype=float)
-        if sig.shape != (6,) or np.any(~np.isfinite(sig)) or np.any(sig < 0):
-            raise ValueError(f"offset_std must be 6 numbers >= 0, got {offset_std!r}")
+        sig = _offset_stds(offset_std)
         sens = self.offset_sensitivity()
         return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
 
@@ -754,10 +758,7 @@ class WindSmoother:
         wind = np.asarray(wind, dtype=float)
         coloured = isinstance(noise_std, ChannelNoise)
         if offset_std is not None:
-            offset_std = np.asarray(offset_std, dtype=float)
-            if (offset_std.shape != (6,) or np.any(~np.isfinite(offset_std))
-                    or np.any(offset_std < 0)):
-                raise ValueError(f"offset_std must be 6 numbers >= 0, got {offset_std!r}")
+            offset_std = _offset_stds(offset_std)
             if not np.any(offset_std > 0):
                 offset_std = None
         if not coloured and offset_std is not None:

@@ -236,8 +236,7 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
                                    else airspeed_m_s)
     passes = ITERATIONS if em_passes is None else int(em_passes)
     try:
-        sm = WindSmoother(heli, pre, prior, iterations=passes, source_data=data,
-                          noise_floor=noise_floor)
+        sm = WindSmoother(heli, pre, prior, iterations=passes, noise_floor=noise_floor)
     except MODEL_FAILURES as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
