@@ -177,3 +177,22 @@ def test_a_refinement_that_fails_its_screening_does_not_outrank_the_next_candida
     assert len(refined) == 2 and refined[0] != refined[1]
     assert tested[0].name == refined[1] and tested[0].refined
     assert tested[0].explained > tested[1].explained == -0.01
+
+
+def test_an_added_effect_writes_the_model_error_it_leaves_and_names_the_flight(
+        lever_path, tmp_path):
+    # the new spec carries its own still-air misfit (what the wind estimator floors its
+    # channel noise at) and names the flight it was measured on by its file, not by the
+    # repr of the loaded table
+    from airwake.heli import spec_calibration
+
+    out = tmp_path / "with_lever.toml"
+    add_effect(str(TRUTH_SPEC), "imu_lever_arm", lever_path, out=out, max_nfev=3)
+    table = spec_calibration(out)
+    assert table["added_effects"] == ["imu_lever_arm"]
+    assert table["model_error_flight"] == str(lever_path)
+    for key in ("model_error_std", "model_error_offset"):
+        v = np.asarray(table[key])
+        assert v.shape == (6,) and np.all(np.isfinite(v)) and np.all(v >= 0), key
+    assert np.all(np.asarray(table["model_error_offset"]) <= np.asarray(
+        table["model_error_std"]) * 1.5)

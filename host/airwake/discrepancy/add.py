@@ -90,14 +90,15 @@ def _register_plugin(plugin) -> list[str]:
         raise DiscrepancyError(str(exc)) from None
 
 
-def _calibration_after(start_spec, new_model, effect: str, flight, wind) -> dict:
+def _calibration_after(start_spec, new_model, effect: str, flight, wind,
+                       flight_name: str) -> dict:
     """The new spec's [calibration] table: the start spec's, with the effects added since
     and `model_error_std` / `model_error_offset` re-measured for the new model on the
     still-air flight it was fitted on (what the wind estimator takes as its channel-noise
     floor and its steady-offset allowance: those of the model it runs, not of the model
     before the effect). With a windy flight and its
     wind as input the floor is not re-measured: the start spec's is kept (it can only be
-    larger), or none is written."""
+    larger), or none is written. `flight_name`: the flight as the report names it."""
     from airwake.calibrate import CalibrationError, model_error
     from airwake.heli import spec_calibration
 
@@ -108,7 +109,7 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind) -> dict
             rms, offset = model_error(new_model, flight)
             table["model_error_std"] = [float(v) for v in rms]
             table["model_error_offset"] = [float(v) for v in offset]
-            table["model_error_flight"] = str(getattr(flight, "path", flight))
+            table["model_error_flight"] = flight_name
         except CalibrationError as exc:
             raise DiscrepancyError(f"the model with {effect}: {exc}") from None
     return table
@@ -182,6 +183,6 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                             description=f"{', '.join(model.effect_names)} + "
                             f"{effect} fitted on {an.flight.name}",
                             calibration=_calibration_after(start_spec, fr.model, effect,
-                                                           flight, wind))
+                                                           flight, wind, an.flight.name))
     return AddResult(effect, fr.model, fr, before, after, written, None if plugin is None
                      else str(plugin))
