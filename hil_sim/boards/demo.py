@@ -250,6 +250,34 @@ def estimate_verdict(comp: dict, low: float = 0.8) -> str:
             "(docs/truth-world.md). Read those components as biased by about that much.")
 
 
+BOUND_GAP = 1.5  # error RMS over the bound above which the estimator, not the flight, limits
+
+
+def bound_verdict(comp: dict, gap: float = BOUND_GAP) -> str:
+    """One sentence on what limits the estimate, from the score's Cramer-Rao bound at the
+    truth (`airwake.estimate.wind.wind_bound`: the model's own misfit as coloured noise,
+    the air's turbulence as the prior): the components whose error RMS exceeds the bound
+    by more than `gap` are limited by the estimator (what it does with the misfit), the
+    others by the information in the flight. "" when the score has no bound."""
+    names = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
+             "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}
+    ratios = [(names.get(n, n), c.get("error_over_crlb")) for n, c in comp.items()]
+    ratios = [(n, r) for n, r in ratios if r is not None]
+    if not ratios:
+        return ""
+    far = [f"{n} ({r:.1f}x)" for n, r in ratios if r > gap]
+    lo, hi = min(r for _, r in ratios), max(r for _, r in ratios)
+    head = (f"Against the Cramér–Rao bound at the truth (the model's own misfit on this "
+            f"flight as coloured channel noise, the air's turbulence as the prior) the error "
+            f"is {lo:.1f}–{hi:.1f}x the bound. ")
+    if not far:
+        return head + ("Every component is near it: the information in this flight, not "
+                       "the estimator, limits the estimate.")
+    return head + (f"On {', '.join(far)} the estimator, not the information in the flight, "
+                   "limits the estimate: an estimator that knew the misfit's spectrum could "
+                   "do that much better (docs/wind-estimation.md).")
+
+
 def _rows(cells) -> str:
     return "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>"
                    for row in cells)
@@ -278,7 +306,9 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
     comp = est["score"]["components"]
     est_rows = [(n, f"{c['error_mean']:+.3f}", f"{c['error_std']:.3f}",
                  f"{c['correlation']:.2f}", f"{c['posterior_std_mean']:.3f}",
-                 f"{100 * c['coverage_90']:.0f} %", f"{c['table_5_3_std']:.3f}")
+                 f"{100 * c['coverage_90']:.0f} %",
+                 f"{c['crlb_std']:.3f}" if c.get("crlb_std") is not None else "-",
+                 f"{c['table_5_3_std']:.3f}")
                 for n, c in comp.items()]
     model_rows = []
     for ch, a in still_air["channels"].items():
@@ -323,13 +353,15 @@ s of data: against the truth wind along the track, and against the simulator's w
 at the cell centres.</p>
 <h2>The wind estimate ({html.escape(str(est.get('method', 'smoother')))})</h2>
 <table><tr><th>component</th><th>error mean</th><th>error std</th><th>corr. with truth</th>
-<th>posterior std</th><th>90 % interval holds the truth</th><th>Table 5.3 std</th></tr>
+<th>posterior std</th><th>90 % interval holds the truth</th><th>Cramér–Rao bound</th>
+<th>Table 5.3 std</th></tr>
 {_rows(est_rows)}</table>
 <p>{est['samples']} samples, {est['realtime_factor']:.0f}x real time. Table 5.3: the
 reference's particle filter on real indoor flights. Truth helicopter: {html.escape(args.truth)}
 ({"the independent blade-element machine: a helicopter the model has never seen" if
 args.truth == "blade_element" else "the host's own effect model: our own model"}).</p>
 <p>{html.escape(honesty)}</p>
+<p>{html.escape(bound_verdict(comp))}</p>
 <h2>The model on this flight</h2>
 <table><tr><th>channel</th><th>RMS, still air</th><th>/ noise</th>
 <th>RMS, estimated wind as input</th><th>/ noise</th></tr>{_rows(model_rows)}</table>

@@ -14,7 +14,7 @@ from airwake.heli import load_spec, spec_calibration
 from browser import images_loaded
 from sil_harness import REPO
 
-from hil_sim.boards.demo import estimate_verdict, truth_arguments
+from hil_sim.boards.demo import bound_verdict, estimate_verdict, truth_arguments
 
 
 def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
@@ -62,6 +62,8 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert est["crlb"]["at"] == "truth" and "AR(" in est["crlb"]["noise_model"]
     for name, c in comp.items():
         assert c["crlb_std"] > 0 and c["error_over_crlb"] >= 0.95, (name, c)
+    # and the report says what limits the estimate, from those ratios
+    assert bound_verdict(comp) and html_escape(bound_verdict(comp)) in html
     # calibrate -> diagnose -> add, as docs/calibration.md has a user do it
     step = json.loads((out / "discrepancy_step.json").read_text())
     assert step["diagnosis"] in html or html_escape(step["diagnosis"]) in html
@@ -105,6 +107,19 @@ def test_estimate_verdict_names_exactly_the_components_whose_intervals_miss():
     for c in comp.values():
         c["coverage_90"] = 0.9
     assert estimate_verdict(comp).startswith("The 90 % intervals hold the truth at least 80 %")
+
+
+def test_bound_verdict_names_the_components_the_estimator_limits():
+    comp = {n: {"error_over_crlb": r} for n, r in (
+        ("wind_vx_m_s", 4.46), ("wind_vy_m_s", 1.11), ("wind_vz_m_s", 3.51),
+        ("wind_wx_rad_s", 1.5), ("wind_wy_rad_s", 1.51), ("wind_wz_rad_s", 0.97))}
+    text = bound_verdict(comp)
+    assert "the error is 1.0–4.5x the bound" in text
+    assert "v_x (4.5x)" in text and "v_z (3.5x)" in text and "ω_y (1.5x)" in text
+    assert "v_y" not in text and "ω_x" not in text and "ω_z" not in text
+    near = {n: {"error_over_crlb": 1.2} for n in comp}
+    assert "the information in this flight, not the estimator" in bound_verdict(near)
+    assert bound_verdict({n: {"error_over_crlb": None} for n in comp}) == ""
 
 
 def test_truth_arguments_fly_each_truth_with_its_pilot():
