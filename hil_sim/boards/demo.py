@@ -231,14 +231,17 @@ def discrepancy_step(still: Path, base: Path, out: Path, run=None) -> dict:
     return step
 
 
+# the wind components as the report writes them
+COMPONENT_SHORT = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
+                   "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}
+
+
 def estimate_verdict(comp: dict, low: float = 0.8) -> str:
     """One paragraph on how far the wind estimate can be believed, from its score: which
     components' 90 % intervals hold the truth less than `low` of the time (a bias the
     posterior does not know of: the model's own error on this airframe), each with its
     coverage and its bias."""
-    names = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
-             "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}
-    short = [(names.get(n, n), c) for n, c in comp.items()]
+    short = [(COMPONENT_SHORT.get(n, n), c) for n, c in comp.items()]
     under = [f"{n} ({100 * c['coverage_90']:.0f} %, bias {c['error_mean']:+.2f})"
              for n, c in short if c["coverage_90"] < low]
     if not under:
@@ -259,9 +262,7 @@ def bound_verdict(comp: dict, gap: float = BOUND_GAP) -> str:
     the air's turbulence as the prior): the components whose error RMS exceeds the bound
     by more than `gap` are limited by the estimator (what it does with the misfit), the
     others by the information in the flight. "" when the score has no bound."""
-    names = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
-             "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}
-    ratios = [(names.get(n, n), c.get("error_over_crlb")) for n, c in comp.items()]
+    ratios = [(COMPONENT_SHORT.get(n, n), c.get("error_over_crlb")) for n, c in comp.items()]
     ratios = [(n, r) for n, r in ratios if r is not None]
     if not ratios:
         return ""
