@@ -46,6 +46,59 @@ def test_uncertainty_of_a_linear_fit_is_the_textbook_covariance():
     np.testing.assert_allclose(unc.sigma2, s2)
 
 
+def _clustered_problem(rng, n_clusters=120, size=25, shared=1.0, white=0.2):
+    """A linear fit whose regressors and errors both hold over a cluster (a window's
+    manoeuvre and its model error): y = X b + e, e = a cluster's offset + white noise."""
+    g = np.repeat(np.arange(n_clusters), size)
+    slow = rng.normal(size=(n_clusters, 2))[g]  # regressors steady within a cluster
+    x = np.column_stack([slow, rng.normal(size=g.size)])
+    e = shared * rng.normal(size=n_clusters)[g] + white * rng.normal(size=g.size)
+    return x, e, g
+
+
+def test_clustered_uncertainty_is_the_spread_of_the_fit_over_repeated_flights():
+    # the covariance must say how far the fit moves between repeated experiments:
+    # with errors shared within a window the white formula is ~sqrt(size) too narrow on
+    # the regressors that are steady within a window; the sandwich is not
+    rng = np.random.default_rng(3)
+    fits, clustered, white = [], [], []
+    for _ in range(300):
+        x, e, g = _clustered_problem(rng)
+        b, *_ = np.linalg.lstsq(x, e, rcond=None)
+        r = e - x @ b  # the residual at the fit (the truth is b = 0)
+        unc = uncertainty(-x, r, ["a", "b", "c"], np.ones(3), clusters=g)
+        assert unc.kind == "clustered" and unc.clusters == 120
+        fits.append(b)
+        clustered.append(unc.std)
+        white.append(unc.std_white)
+    spread = np.std(fits, axis=0)
+    np.testing.assert_allclose(np.mean(clustered, axis=0), spread, rtol=0.15)
+    assert np.all(np.mean(white, axis=0)[:2] < 0.4 * spread[:2])
+
+
+def test_clustered_uncertainty_equals_the_white_one_for_independent_residuals():
+    rng = np.random.default_rng(4)
+    ratio = []
+    for _ in range(40):
+        x = rng.normal(size=(2000, 3))
+        r = 0.5 * rng.normal(size=2000)
+        unc = uncertainty(x, r, ["a", "b", "c"], np.ones(3), clusters=np.arange(2000) // 10)
+        ratio.append(unc.std / unc.std_white)
+    np.testing.assert_allclose(np.mean(ratio, axis=0), 1.0, atol=0.06)
+
+
+def test_too_few_windows_keep_the_white_uncertainty_and_say_so():
+    rng = np.random.default_rng(5)
+    x, e, g = _clustered_problem(rng, n_clusters=5)
+    unc = uncertainty(x, e, ["a", "b", "c"], np.ones(3), clusters=g)
+    assert unc.kind == "white" and unc.clusters == 5
+    np.testing.assert_allclose(unc.std, unc.std_white)
+    notes, _ = identifiability_notes(["a", "b", "c"], np.ones(3), unc, np.zeros(3, bool))
+    assert any(n.startswith("only 5 windows for 3 free parameters") for n in notes)
+    with pytest.raises(ValueError, match="labels for"):
+        uncertainty(x, e, ["a", "b", "c"], np.ones(3), clusters=g[:-1])
+
+
 def test_a_parameter_the_residuals_ignore_is_reported_unidentifiable():
     # hiding an unidentifiable parameter behind a finite number would be a lie
     rng = np.random.default_rng(0)

@@ -4,8 +4,20 @@ Uncertainty (both methods, from the Jacobian J of the weighted residuals at the 
 
     Cov(p) = s^2 (J^T J)^-1,   s^2 = |r|^2 / (n - p)
 
-valid for white, independent residuals (coloured noise or model error make it
-optimistic). A direction of parameter space J does not see (singular value below 1e-9
+valid for white, independent residuals. A calibration's residuals are neither: the front
+end's low-pass colours them over ~f_s / (2 f_c) samples and the model's own error holds
+over whole manoeuvres. With the residuals grouped in independent clusters g (the
+calibration's windows), the cluster-robust ("sandwich") covariance
+
+    Cov(p) = G/(G-1) (J^T J)^-1 (sum_g J_g^T r_g r_g^T J_g) (J^T J)^-1
+
+takes whatever correlation the residuals have within a window from the residuals
+themselves (on the blade-element still-air flight its 1-sigma are 6-35x the white ones).
+It is used when there are at least `MIN_CLUSTERS_PER_PARAMETER` clusters per free
+parameter (fewer make its middle matrix too poorly estimated); otherwise the white
+formula, with a note that says so. Model error shared between windows is in neither.
+
+A direction of parameter space J does not see (singular value below 1e-9
 of the largest, columns normalised) gets infinite uncertainty instead of a made-up
 number. Identifiability notes name: parameters at a bound, parameters whose 1-sigma is
 more than `REL_STD_LIMIT` of their value, pairs correlated beyond `CORR_LIMIT`, and the
@@ -21,6 +33,7 @@ import numpy as np
 REL_STD_LIMIT = 0.25
 CORR_LIMIT = 0.95
 SINGULAR_RCOND = 1e-9
+MIN_CLUSTERS_PER_PARAMETER = 2
 
 
 @dataclass
@@ -30,13 +43,17 @@ class Uncertainty:
     sigma2: float  # residual variance (weighted units)
     condition: float  # condition number of the column-normalised Jacobian
     weak_directions: list  # [(singular value ratio, [(name, loading), ...]), ...]
+    kind: str = "white"  # "white" or "clustered" (sandwich over the clusters)
+    std_white: np.ndarray | None = None  # (p,) the white-residual 1-sigma, for comparison
+    clusters: int = 0  # clusters of the sandwich (0: none given)
 
 
 def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
-                active=None) -> Uncertainty:
+                active=None, clusters=None) -> Uncertainty:
     """Parameter covariance from J (n, p) (d residual / d parameter, parameter units) and
     the residual vector r (n,). `active` (p,) marks parameters held at a bound: they are
-    excluded from the covariance (std NaN)."""
+    excluded from the covariance (std NaN). `clusters` (n,) labels the residuals' independent
+    groups (the windows): the sandwich covariance when there are enough (module doc)."""
     n, p = jac.shape
     active = np.zeros(p, dtype=bool) if active is None else np.asarray(active, bool)
     use = ~active
@@ -46,6 +63,7 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
     sigma2 = float(residual @ residual / dof)
     weak = []
     cond = np.nan
+    kind, std_white, n_clusters = "white", np.full(p, np.nan), 0
     if use.any():
         j = jac[:, use]
         norms = np.linalg.norm(j, axis=0)
@@ -57,11 +75,23 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
         inv_s2 = np.where(good, 1.0 / np.where(good, s, 1.0) ** 2, 0.0)
         cov_n = (vt.T * inv_s2) @ vt  # covariance of the normalised parameters / sigma2
         cov = sigma2 * cov_n / np.outer(norms, norms)
-        d = np.sqrt(np.maximum(np.diag(cov), 0.0))
         # a parameter loading on a direction J cannot see has no finite uncertainty
         blind = np.any(np.abs(vt[~good]) > 1e-3, axis=0) if (~good).any() else np.zeros(
             use.sum(), bool)
-        d = np.where(blind, np.inf, d)
+        std_white[use] = np.where(blind, np.inf, np.sqrt(np.maximum(np.diag(cov), 0.0)))
+        if clusters is not None:
+            if np.shape(clusters) != (n,):
+                raise ValueError(f"clusters: {np.shape(clusters)} labels for {n} residuals")
+            labels, inverse = np.unique(np.asarray(clusters), return_inverse=True)
+            n_clusters = labels.size
+            if n_clusters >= MIN_CLUSTERS_PER_PARAMETER * int(use.sum()):
+                # per cluster the score J_g^T r_g (normalised columns), summed outer products
+                scores = np.zeros((n_clusters, jn.shape[1]))
+                np.add.at(scores, inverse, jn * residual[:, None])
+                meat = scores.T @ scores * n_clusters / (n_clusters - 1)
+                cov = cov_n @ meat @ cov_n / np.outer(norms, norms)
+                kind = "clustered"
+        d = np.where(blind, np.inf, np.sqrt(np.maximum(np.diag(cov), 0.0)))
         std[use] = d
         with np.errstate(invalid="ignore", divide="ignore"):
             c = cov / np.outer(np.sqrt(np.diag(cov)), np.sqrt(np.diag(cov)))
@@ -72,7 +102,9 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
             v = vt[-k]
             order = np.argsort(-np.abs(v))[:3]
             weak.append((float(s[-k] / s[0]), [(used_names[i], float(v[i])) for i in order]))
-    return Uncertainty(std, corr, sigma2, cond, weak)
+    if clusters is not None and n_clusters == 0:
+        n_clusters = int(np.unique(np.asarray(clusters)).size)
+    return Uncertainty(std, corr, sigma2, cond, weak, kind, std_white, n_clusters)
 
 
 def identifiability_notes(names, values, unc: Uncertainty, at_bound) -> tuple[list, np.ndarray]:
@@ -97,6 +129,10 @@ def identifiability_notes(names, values, unc: Uncertainty, at_bound) -> tuple[li
             if np.isfinite(c) and abs(c) > CORR_LIMIT:
                 notes.append(f"{names[a]} and {names[b]} strongly correlated (rho = {c:+.3f}): "
                              "the flight constrains a combination of them")
+    if unc.clusters and unc.kind == "white":
+        notes.append(f"only {unc.clusters} windows for {int((~np.isnan(unc.std)).sum())} "
+                     "free parameters: the 1-sigma assume white residuals and are "
+                     "optimistic (a longer flight or more windows give the windows' own)")
     if np.isfinite(unc.condition) and unc.condition > 1e4:
         notes.append(f"Jacobian condition number {unc.condition:.3g} (columns normalised)")
     for ratio, loads in unc.weak_directions[:1]:
@@ -123,6 +159,8 @@ class FitResult:
     rms_after: np.ndarray
     noise_scale: np.ndarray  # (6,) the channel weights' denominators
     cost_history: list = field(default_factory=list)  # weighted RMS per iteration
+    std_white: np.ndarray | None = None  # 1-sigma if the residuals were white (comparison)
+    uncertainty_kind: str = "white"  # how `std` was computed: "clustered" or "white"
     evaluations: int = 0  # parameter-set evaluations over the scored windows
     seconds: float = 0.0
     info: dict = field(default_factory=dict)
@@ -144,11 +182,14 @@ class FitResult:
             "rms_before_all": float(np.sqrt(np.mean(self.rms_before**2))),
             "rms_after_all": float(np.sqrt(np.mean(self.rms_after**2))),
             "noise_scale": [float(v) for v in self.noise_scale],
+            "uncertainty": self.uncertainty_kind,
             "parameters": {
-                n: {"start": float(s), "value": float(v), "std": num(d), "at_bound": bool(b),
-                    "identifiable": bool(i)}
-                for n, s, v, d, b, i in zip(self.names, self.start, self.values, self.std,
-                                            self.at_bound, self.identifiable, strict=True)
+                n: {"start": float(s), "value": float(v), "std": num(d),
+                    "std_white": num(w), "at_bound": bool(b), "identifiable": bool(i)}
+                for n, s, v, d, w, b, i in zip(
+                    self.names, self.start, self.values, self.std,
+                    self.std if self.std_white is None else self.std_white,
+                    self.at_bound, self.identifiable, strict=True)
             },
             "identifiability": list(self.notes),
             "cost_history": [float(c) for c in self.cost_history],

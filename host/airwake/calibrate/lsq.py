@@ -129,12 +129,14 @@ def fit_lsq(model, predictor: WindowedPredictor, free: np.ndarray, max_nfev: int
     r = prob.fun(q)
     at_bound = (q <= 1e-9) | (q >= 1 - 1e-9)
     names = [n for n, f in zip(model.parameter_names, free, strict=True) if f]
-    unc = uncertainty(jac_p, r, names, full[free], at_bound)
+    unc = uncertainty(jac_p, r, names, full[free], at_bound,
+                      clusters=predictor.windows.residual_windows())
     notes, ident = identifiability_notes(names, full[free], unc, at_bound)
     rms_after, offset_after = (v[0] for v in predictor.channel_stats(full[None]))
     return FitResult(
         method="lsq", model=fitted, names=names, start=full0[free], values=full[free],
-        std=unc.std, correlation=unc.correlation, at_bound=at_bound, identifiable=ident,
+        std=unc.std, std_white=unc.std_white, uncertainty_kind=unc.kind,
+        correlation=unc.correlation, at_bound=at_bound, identifiable=ident,
         notes=notes, rms_before=rms_before, rms_after=rms_after,
         noise_scale=predictor.data.scale, cost_history=history + prob.history,
         evaluations=predictor.evaluations, seconds=time.perf_counter() - t0,

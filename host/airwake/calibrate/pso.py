@@ -138,11 +138,13 @@ def fit_pso(model, predictor: WindowedPredictor, free: np.ndarray, rng,
     jac_p = prob.jac(q) / (hi[free] - lo[free])[None, :]
     r = prob.fun(q)
     at_bound = (q <= 1e-9) | (q >= 1 - 1e-9)
-    unc = uncertainty(jac_p, r, names, best[free], at_bound)
+    unc = uncertainty(jac_p, r, names, best[free], at_bound,
+                      clusters=predictor.windows.residual_windows())
     notes, ident = identifiability_notes(names, best[free], unc, at_bound)
     return FitResult(
         method="pso", model=fitted, names=names, start=full0[free], values=best[free],
-        std=unc.std, correlation=unc.correlation, at_bound=at_bound, identifiable=ident,
+        std=unc.std, std_white=unc.std_white, uncertainty_kind=unc.kind,
+        correlation=unc.correlation, at_bound=at_bound, identifiable=ident,
         notes=notes, rms_before=rms_before, rms_after=rms_after,
         noise_scale=predictor.data.scale, cost_history=history,
         evaluations=sub.evaluations + predictor.evaluations,

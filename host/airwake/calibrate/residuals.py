@@ -138,6 +138,12 @@ class Windows:
     def subset(self, which) -> Windows:
         return Windows(self.idx[which], self.score[which], self.warmup)
 
+    def residual_windows(self) -> np.ndarray:
+        """(n_scored * 6,) the window of each element of `WindowedPredictor.residuals`'s
+        vector (scored samples in window order, six channels each): the independent
+        clusters of the calibration's sandwich covariance (`fit.uncertainty`)."""
+        return np.repeat(np.nonzero(self.score)[0], 6)
+
 
 def make_windows(data: FlightData, window_s: float = 2.0, warmup_s: float = 1.0) -> Windows:
     """Windows tiling every run's samples after its first `warmup_s` (see module doc).
