@@ -103,11 +103,12 @@ def register(subparsers) -> None:
     a.add_argument("flight", metavar="FLIGHT")
     which = a.add_mutually_exclusive_group(required=True)
     which.add_argument("--net", metavar="NET.pt",
-                       help="a rate or acceleration net: its residuals (docs/networks.md: a "
-                       "still-air rate net, lag 1)")
+                       help="a rate or acceleration net: its residuals (docs/networks.md: "
+                       "an acceleration net trained on still-air flights, --target accel)")
     which.add_argument("--no-net", action="store_true",
-                       help="ω′ = 0: A_ω = ω_s·‖ω‖ and the gyro's own local std — on the "
-                       "simulated ship flights a better map than any net's (docs/networks.md)")
+                       help="ω′ = 0: A_ω = ω_s·‖ω‖ and the gyro's own local std, no pilot "
+                       "compensation (a pilot that manoeuvres shakes the map as much as the "
+                       "air: docs/networks.md)")
     a.add_argument("--out", required=True, metavar="DIR")
     a.add_argument("--std-window-s", type=float, default=0.5,
                    help="window of ω_s and of the residual std (0.5 s)")
