@@ -157,3 +157,60 @@ def test_live_wind_refuses_a_rate_net(wind_net):
             LiveWind(wind_net)
     finally:
         wind_net.card["target"] = "wind"
+
+
+def test_a_still_air_wind_net_reads_the_mean_flow_with_no_wind_to_learn_from(
+        truth_world_flight, tmp_path, capsys):
+    # trained on a still-air flight with every truth column removed (what a user has: the
+    # INS velocity is the velocity through still air), the net's mean flow on a ship
+    # flight must beat "no wind" by far; the rotation it never saw is not estimated
+    from airwake.cli import main
+    from airwake.record.flight_table import (
+        load_flight_table,
+        read_flight_table,
+        write_flight_table,
+    )
+
+    still = load_flight_table(truth_world_flight("still_air_calibration", 5, 60.0),
+                              required=())
+    plain = tmp_path / "still_no_truth.parquet"
+    write_flight_table(still.df[[c for c in still.df.columns if not c.startswith("truth_")]],
+                       plain, {})
+    ship = truth_world_flight("ship_airwake_b0", 5, 60.0)
+    net = tmp_path / "air.pt"
+    assert main(["nets", "train", str(plain), "--target", "wind", "--still-air", "--out",
+                 str(net), "--quiet", "--json"]) == 0
+    card = json.loads(capsys.readouterr().out)
+    assert card["wind_net_config"]["labels"] == "still_air"
+    assert not any(f.startswith("vel_") for f in card["features"])  # the label is no input
+    est = tmp_path / "wind.parquet"
+    assert main(["wind", "estimate", str(ship), "--method", "net", "--net", str(net),
+                 "--score", "--out", str(est), "--json"]) == 0
+    comp = json.loads(capsys.readouterr().out)["score"]["components"]
+    truth = pd.read_parquet(ship)
+    # the relative wind along the ship (~1 m/s on body x here) is what it reads; v_y and
+    # v_z (0.2-0.5 m/s of truth) carry biases of ~0.1-0.3 (docs/networks.md)
+    no_wind = float(np.sqrt(np.mean(truth["truth_wind_vx_m_s"] ** 2)))
+    assert comp["wind_vx_m_s"]["error_rms"] < 0.5 * no_wind, (comp["wind_vx_m_s"], no_wind)
+    assert comp["wind_vy_m_s"]["error_rms"] < 0.5 and comp["wind_vz_m_s"]["error_rms"] < 0.5
+    for name in WIND_OUTPUTS[3:]:
+        assert np.isnan(comp[name]["error_rms"]) and np.isnan(comp[name]["coverage_90"])
+    df, meta = read_flight_table(est)
+    assert meta["not_estimated"] == list(WIND_OUTPUTS[3:])
+    assert df[list(WIND_OUTPUTS[3:])].isna().all().all()
+    # the map takes a wind table without rotation
+    assert main(["wind", "map", str(est), "--flight", str(ship), "--out",
+                 str(tmp_path / "map"), "--min-seconds", "0.5"]) == 0
+    assert (tmp_path / "map" / "map.parquet").is_file()
+
+
+def test_a_still_air_wind_net_refuses_a_windy_flight_and_the_live_path(truth_world_flight):
+    from airwake.nets.live_wind import LiveWind
+    from airwake.record.flight_table import FlightTableError
+
+    with pytest.raises(FlightTableError, match="not a still-air flight"):
+        train_wind_net([truth_world_flight("ship_airwake_b0", 5, 60.0)], still_air=True)
+    net = train_wind_net([truth_world_flight("still_air_calibration", 5, 60.0)],
+                         still_air=True)
+    with pytest.raises(NetFileError, match="does not run live yet"):
+        LiveWind(net)

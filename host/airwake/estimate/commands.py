@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 
 
 def print_score(score: dict, stream=None) -> None:
@@ -218,14 +219,27 @@ def _map_handle(args: argparse.Namespace) -> int:
     from airwake.estimate.map_report import make_map
     from airwake.heli.model import WIND_NAMES
     from airwake.progress import Progress
-    from airwake.record.flight_table import FlightTableError, load_flight_table
+    from airwake.record.flight_table import (
+        FlightTableError,
+        load_flight_table,
+        validate_flight_table,
+    )
 
     out = Path(args.out)
     if not out.parent.is_dir():
         raise WindEstimationError(f"cannot write {out}: directory {out.parent} does not exist")
     try:
-        wind = load_flight_table(args.wind, required=(), reads=(
-            *WIND_NAMES, *(f"{n}_std" for n in WIND_NAMES)))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            wind = load_flight_table(args.wind, required=(), reads=())
+        # the components the estimator did not estimate (NaN throughout: a still-air
+        # wind net's rotation) are left unchecked and unwarned; the map shows them empty
+        skip = set(wind.metadata.get("not_estimated") or ())
+        for w in caught:
+            if not any(f"'{n}" in str(w.message) for n in skip):
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        validate_flight_table(wind.df, str(args.wind), (), [
+            c for n in WIND_NAMES if n not in skip for c in (n, f"{n}_std")])
     except FlightTableError as exc:
         raise WindEstimationError(str(exc)) from None
     try:

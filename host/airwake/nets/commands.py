@@ -48,6 +48,11 @@ def register(subparsers) -> None:
     t.add_argument("--rate-history", type=int, default=None, metavar="N",
                    help="feed back the rates at lags L ... L+N-1 (rates: 30, the gyro's rotor "
                    "vibration lines are predictable from them; accel: 1)")
+    t.add_argument("--still-air", action="store_true",
+                   help="--target wind on still-air flights, no truth needed: learn the "
+                   "velocity through the air with the INS body velocity as its label; at sea "
+                   "the mean flow is the INS velocity less the net's (ω not estimated; "
+                   "docs/networks.md)")
     t.add_argument("--pilot-only", action="store_true",
                    help="no rate fed back: predict the rates from the pilot's inputs and the "
                    "attitude alone (eq 2.4's ω′; --rate-lag and --rate-history unused)")
@@ -161,6 +166,9 @@ def _train(args: argparse.Namespace) -> int:
         raise NetFileError(f"--hidden {args.hidden!r}: expected sizes like 16,8") from None
     if args.target == "wind":
         return _train_wind(args, out, hidden)
+    if args.still_air:
+        raise NetFileError("--still-air: for --target wind (the air-relative velocity "
+                           "learned in still air)")
     fkw = {"rate_lag_samples": DEFAULT_RATE_LAG[args.target] if args.rate_lag is None
            else args.rate_lag,
            "rate_history_samples": DEFAULT_RATE_HISTORY[args.target]}
@@ -248,7 +256,8 @@ _NOT_WIND = {"trainer": "adamw", "line_window_s": None, "rate_lag": None, "rate_
 
 
 def _train_wind(args: argparse.Namespace, out, hidden) -> int:
-    """`nets train --target wind`: nets.wind_net on simulated flights' truth."""
+    """`nets train --target wind`: nets.wind_net on simulated flights' truth, or on
+    still-air flights' INS velocity (--still-air)."""
     from airwake.nets import save_net
     from airwake.nets.model import NetFileError
     from airwake.nets.split import SplitConfig
@@ -264,7 +273,8 @@ def _train_wind(args: argparse.Namespace, out, hidden) -> int:
         # a wind net early-stops on blocks of its flights; other flights are its test set
         split = SplitConfig(order="blocks",
                             **({"block_s": args.block_s} if args.block_s else {}))
-        net = train_wind_net(args.flights, seed=args.seed, hidden=hidden, split=split)
+        net = train_wind_net(args.flights, seed=args.seed, hidden=hidden, split=split,
+                             still_air=args.still_air)
     except ValueError as exc:
         raise NetFileError(f"nets train: {exc}") from None
     save_net(net, out)
@@ -274,8 +284,11 @@ def _train_wind(args: argparse.Namespace, out, hidden) -> int:
     card = net.card
     print(f"wind net (adamw, seed {args.seed}): {len(args.flights)} flight(s), "
           f"{card['training_rows']} training rows, {card['train_seconds']:.1f} s")
-    print("validation RMS (net / its ARX skip): " + ", ".join(
-        f"{o} {v['net']:.3f} / {v['arx']:.3f}" for o, v in card["validation_rms"].items()))
+    still = card["wind_net_config"].get("labels") == "still_air"
+    print(("validation RMS of the air velocity in still air (net / its ARX skip): " if still
+           else "validation RMS (net / its ARX skip): ") + ", ".join(
+        f"{o} {v['net']:.3f} / {v['arx']:.3f}" for o, v in card["validation_rms"].items()
+        if not (still and "_rad_s" in o)))
     print(f"wrote {out}")
     return 0
 

@@ -72,6 +72,11 @@ class LiveWind(PilotAligned):
         if card.get("target") != TARGET:
             raise NetFileError(f"--wind-net: a {card.get('target')!r} net; the live wind "
                                "needs a wind net (airwake nets train --target wind)")
+        if (card.get("wind_net_config") or {}).get("labels") == "still_air":
+            raise NetFileError("--wind-net: a still-air wind net (its mean flow is the INS "
+                               "velocity less the net's air velocity) does not run live yet; "
+                               "use it on the exported flight (airwake wind estimate "
+                               "--method net)")
         if card.get("input_source") != "delta":
             raise NetFileError(f"--wind-net: trained on {card.get('input_source')!r} inputs; "
                                "the daemon feeds blade pitch (delta) from the RC pulse widths")

@@ -19,6 +19,17 @@ flight that is not a training flight is held out.
 
 Estimates are per sample and causal; `smooth_s` (a centred Gaussian, default 0: on the
 ship flights it raised the error, the truth wind changes within a second) smooths them.
+
+Still-air labels (`train_wind_net(..., still_air=True)`, `nets train --target wind
+--still-air`): a user has no truth wind, but in still air the helicopter's velocity
+through the air is its INS body velocity. Trained on still-air flights, the net learns
+the air-relative velocity from the dynamics (the velocity itself is then no input:
+`AIR_MOTION`), and at sea the mean flow is what the INS velocity has beyond it,
+
+    v_wind = v_body(INS) - v_air(net)          (body axes; ω is not estimated: NaN)
+
+— the speed derivatives a model-based estimator calibrates, learned from the same kind
+of flight with no model (docs/networks.md "Still-air labels").
 """
 
 from __future__ import annotations
@@ -40,7 +51,15 @@ WIND_TRUTH = ("truth_wind_vx_m_s", "truth_wind_vy_m_s", "truth_wind_vz_m_s",
 WIND_OUTPUTS = tuple(c[len("truth_"):] for c in WIND_TRUTH)
 MOTION = ("pdot_rad_s2", "qdot_rad_s2", "vel_u_m_s", "vel_v_m_s", "vel_w_m_s",
           "acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2")
+BODY_VELOCITY = ("vel_u_m_s", "vel_v_m_s", "vel_w_m_s")
+# a still-air net's motion inputs: without the velocity it is trained to predict
+AIR_MOTION = tuple(c for c in MOTION if c not in BODY_VELOCITY)
 TARGET = "wind"
+LABELS = ("truth", "still_air")
+# a still-air training flight whose truth wind (when it has one) is above this RMS is no
+# still-air flight
+STILL_AIR_MAX_RMS_M_S = 0.3
+STILL_AIR_SMOOTH_S = 0.5
 
 
 @dataclass(frozen=True)
@@ -50,8 +69,16 @@ class WindNetConfig:
     context_sigma_s: float = 0.5  # causal Gaussian low-pass of the motion channels
     context_length_s: float = 1.5
     smooth_s: float = 0.0  # centred Gaussian on the estimates (0: raw per-sample)
+    labels: str = "truth"  # "truth" (truth_wind_*) or "still_air" (module doc)
+
+    @property
+    def motion(self) -> tuple:
+        """The motion channels the net reads."""
+        return AIR_MOTION if self.labels == "still_air" else MOTION
 
     def __post_init__(self) -> None:
+        if self.labels not in LABELS:
+            raise ValueError(f"WindNetConfig.labels = {self.labels!r}: one of {LABELS}")
         for name in ("context_sigma_s", "context_length_s"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
@@ -72,13 +99,15 @@ def _df(table):
 
 def wind_feature_matrix(inputs, roll_rad, pitch_rad, rates_rad_s, motion, rate_hz: float,
                         feature_config: FeatureConfig, config: WindNetConfig):
-    """(X (T, F), names (F,)) from arrays: the pilot-input features, then the MOTION
-    channels (T, 8) and their causal low-pass (the daemon's live wind calls this too)."""
+    """(X (T, F), names (F,)) from arrays: the pilot-input features, then the motion
+    channels (T, len(config.motion)) and their causal low-pass (the daemon's live wind
+    calls this too)."""
     x, names = build_features(inputs, roll_rad, pitch_rad, rates_rad_s, rate_hz,
                               feature_config)
     lp = gaussian_lowpass(motion, rate_hz, config.context_sigma_s, config.context_length_s)
+    cols = config.motion
     return (np.column_stack([x, motion, lp]),
-            [*names, *MOTION, *(f"{c}_context" for c in MOTION)])
+            [*names, *cols, *(f"{c}_context" for c in cols)])
 
 
 def history_s(feature_config: FeatureConfig, config: WindNetConfig, rate_hz: float) -> float:
@@ -92,13 +121,14 @@ def wind_features(table, feature_config: FeatureConfig, config: WindNetConfig):
 
     df, source = _df(table)
     flight = net_flight_from_df(df, source, "accel", "delta")
-    missing = [c for c in MOTION if c not in df.columns or df[c].isna().all()]
+    need = MOTION if config.labels == "still_air" else config.motion  # + the velocity
+    missing = [c for c in need if c not in df.columns or df[c].isna().all()]
     if missing:
         raise FlightTableError(f"{source}: column(s) {missing} missing; a wind net reads "
-                               f"{list(MOTION)}")
+                               f"{list(need)}")
     # the net flight may have cropped or dropped nothing: align by time
     motion = np.column_stack([np.interp(flight.t_s, df["t_s"].to_numpy(float),
-                                        df[c].to_numpy(float)) for c in MOTION])
+                                        df[c].to_numpy(float)) for c in config.motion])
     x, names = wind_feature_matrix(flight.inputs, flight.roll_rad, flight.pitch_rad,
                                    flight.rates_rad_s, motion, flight.rate_hz, feature_config,
                                    config)
@@ -109,13 +139,42 @@ def wind_features(table, feature_config: FeatureConfig, config: WindNetConfig):
     return flight.t_s, x, names, flight.rate_hz, truth
 
 
+def body_velocity(table, t_s: np.ndarray) -> np.ndarray:
+    """(T, 3) the flight's INS body velocity (vel_u/v/w) at the times t_s."""
+    df, _ = _df(table)
+    tf = df["t_s"].to_numpy(float)
+    return np.column_stack([np.interp(t_s, tf, df[c].to_numpy(float)) for c in BODY_VELOCITY])
+
+
+def still_air_labels(table, t_s: np.ndarray, truth) -> np.ndarray:
+    """(T, 6) a still-air flight's labels: the air-relative velocity (= the INS body
+    velocity in still air) in the mean-flow outputs, zero rotation. A flight whose truth
+    wind says it was not still air is refused."""
+    if truth is not None:
+        rms = float(np.sqrt(np.mean(truth[:, :3] ** 2)))
+        if rms > STILL_AIR_MAX_RMS_M_S:
+            raise FlightTableError(
+                f"{_df(table)[1]}: --still-air, but its truth wind is {rms:.2f} m/s RMS: "
+                "not a still-air flight")
+    return np.column_stack([body_velocity(table, t_s), np.zeros((t_s.size, 3))])
+
+
 def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig | None = None,
                    split: SplitConfig | None = None, adamw=None,
-                   max_rows: int = 60000) -> PilotNet:
-    """A wind net trained on simulated flights (their truth_wind_* columns); the card
-    holds the features, windows, flights, validation RMS per output (net and ARX)."""
+                   max_rows: int = 60000, still_air: bool = False) -> PilotNet:
+    """A wind net trained on simulated flights (their truth_wind_* columns), or with
+    `still_air` on still-air flights of any kind (their INS velocity; module doc); the
+    card holds the features, windows, flights, validation RMS per output (net and ARX)."""
+    from dataclasses import replace
+
     from airwake.nets.train import AdamWConfig, train_adamw, versions
 
+    if still_air:
+        # smoothed after the subtraction: the INS velocity's and the net's noise are
+        # independent, the wind's mean flow changes over seconds (0.5 s, chosen on ship
+        # seeds 41 and 42: v_x error std 0.33 -> 0.19; docs/networks.md)
+        config = replace(config or WindNetConfig(smooth_s=STILL_AIR_SMOOTH_S),
+                         labels="still_air")
     config = config or WindNetConfig()
     split = split or SplitConfig(order="blocks")
     fcfg = FeatureConfig(rate_lag_samples=0)
@@ -124,9 +183,12 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
     xs, ys, labels, flights, names, rates = [], [], [], [], None, []
     for table in tables:
         t, x, names, rate_hz, truth = wind_features(table, fcfg, config)
-        if truth is None:
+        if config.labels == "still_air":
+            truth = still_air_labels(table, t, truth)
+        elif truth is None:
             raise FlightTableError(f"{_df(table)[1]}: no truth_wind_* columns: a wind net "
-                                   "trains on simulated flights")
+                                   "trains on simulated flights (or on still-air flights "
+                                   "with --still-air)")
         lab = split_labels(t, split, history_s(fcfg, config, rate_hz), rng)
         lab = np.where(lab == TEST, TRAIN, lab)  # other flights are the test set
         xs.append(x)
@@ -189,6 +251,10 @@ def predict_wind(net: PilotNet, table, smooth_s: float | None = None) -> pd.Data
         raise FlightTableError(f"sampled at {rate_hz:.4g} Hz, the wind net was trained at "
                                f"{rate:.4g} Hz")
     est = net.predict_numpy(x)
+    if config.labels == "still_air":
+        # the net's mean-flow outputs are the air-relative velocity; ω it never saw
+        est = np.column_stack([body_velocity(table, t) - est[:, :3],
+                               np.full((t.size, 3), np.nan)])
     smooth = config.smooth_s if smooth_s is None else smooth_s
     if smooth > 0:
         est = gaussian_smooth(est, rate_hz, smooth, 3.0 * smooth)
