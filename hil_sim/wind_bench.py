@@ -26,6 +26,15 @@ each after a warm-up that loads the compiled model kernels:
   `apf_realtime_factor_cpu` per CPU second; `apf_peak_rss_mb` the child's peak memory
   during the run (VmHWM after a reset); `apf_error_std_*`.
 
+- `still_air_net_error_mean_*`, `still_air_net_error_std_*`, `still_air_net_coverage90_*`
+  (v_x, v_y, v_z): the still-air wind net (docs/networks.md "Still-air labels": `airwake
+  nets train --target wind --still-air` on blade-element still-air flights —
+  `still_air_calibration` seeds 111-113 and `still_air_speed_legs` 121-123, no truth wind
+  read — then `airwake wind estimate --method net`) on the same SIL flight;
+  `still_air_net_realtime_factor` its estimate's flight seconds per wall second,
+  `still_air_net_prepare_s` the seconds spent flying and training it (0 when cached in
+  build/bench-cache/stillnet-<key>).
+
 And what the truth world pays for its wind, per field type (`still_air`, `uniform`,
 `fans_indoor`, `ship_airwake` at their defaults, the airwake at 15 deg):
 `wind_field_us_per_point_<type>`, CPU microseconds per point of a `velocity_ned` call
@@ -101,6 +110,54 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
     _cli("export", str(rec), "--out", str(d / "flight.parquet"))
     _cli("sim", "truth", str(rec), "--flight", str(d / "flight.parquet"), "--out", str(flight))
     return flight, spec, time.perf_counter() - t0
+
+
+STILL_AIR_FLIGHTS = (("still_air_calibration", (111, 112, 113)),
+                     ("still_air_speed_legs", (121, 122, 123)))
+
+
+def prepare_still_air_net(quick: bool) -> tuple[Path, float]:
+    """(the still-air wind net, seconds spent flying and training it: 0 when cached)."""
+    import time
+
+    from hil_sim.world.scenario import find_scenario
+
+    flights = [(name, seeds[:1] if quick else seeds) for name, seeds in STILL_AIR_FLIGHTS]
+    h = hashlib.sha1(f"{BENCH_VERSION} {flights} {quick} {TRUTH}".encode())
+    for name, _ in flights:
+        h.update(find_scenario(name).read_bytes())
+    d = CACHE / f"stillnet-{h.hexdigest()[:12]}"
+    net = d / "still_air_net.pt"
+    if net.is_file():
+        return net, 0.0
+    t0 = time.perf_counter()
+    d.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for name, seeds in flights:
+        for seed in seeds:
+            path = d / f"{name}-{seed}.parquet"
+            _cli("sim", "table", "--scenario", name, *TRUTH, "--seed", str(seed), "--quiet",
+                 *(("--duration", "60") if quick else ()), "--out", str(path))
+            paths.append(str(path))
+    _cli("nets", "train", *paths, "--target", "wind", "--still-air", "--quiet", "--out",
+         str(net))
+    return net, time.perf_counter() - t0
+
+
+def _still_air_net_figures(flight: Path, net: Path, made_s: float) -> dict:
+    """The still-air net's mean flow on the bench flight (module doc)."""
+    res = json.loads(_cli("wind", "estimate", str(flight), "--method", "net", "--net",
+                          str(net), "--score", "--json", "--out",
+                          str(net.parent / "wind_on_bench_flight.parquet")))
+    out = {"still_air_net_realtime_factor": res["realtime_factor"],
+           "still_air_net_prepare_s": made_s}
+    for name in ("wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"):
+        c = res["score"]["components"][name]
+        short = name.replace("wind_", "").split("_")[0]
+        out[f"still_air_net_error_mean_{short}"] = c["error_mean"]
+        out[f"still_air_net_error_std_{short}"] = c["error_std"]
+        out[f"still_air_net_coverage90_{short}"] = c["coverage_90"]
+    return out
 
 
 def _vm_hwm_mb() -> float | None:
@@ -249,4 +306,5 @@ def run(quick: bool = False) -> dict:
         a = res["apf_score"]["components"][name]
         out[f"apf_error_std_{short}"] = a["error_std"]
         out[f"apf_error_mean_{short}"] = a["error_mean"]
+    out.update(_still_air_net_figures(flight, *prepare_still_air_net(quick)))
     return out
