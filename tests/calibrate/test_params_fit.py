@@ -87,6 +87,26 @@ def test_clustered_uncertainty_equals_the_white_one_for_independent_residuals():
     np.testing.assert_allclose(np.mean(ratio, axis=0), 1.0, atol=0.06)
 
 
+def test_residual_windows_label_each_residual_with_its_window():
+    # the sandwich's clusters must follow WindowedPredictor.residuals' layout exactly
+    from types import SimpleNamespace
+
+    from airwake.calibrate.residuals import WindowedPredictor, Windows
+
+    rng = np.random.default_rng(6)
+    w_count, length = 7, 9
+    score = rng.random((w_count, length)) > 0.3
+    score[:, 0] = True
+    win = Windows(rng.integers(0, 50, size=(w_count, length)), score, 2)
+    pred = WindowedPredictor.__new__(WindowedPredictor)
+    pred.windows = win
+    pred.data = SimpleNamespace(z=np.zeros((50, 6)), scale=np.ones(6))
+    labels = np.broadcast_to(np.arange(w_count)[None, :, None, None], (1, w_count, length, 6))
+    pred.predict = lambda sets, wind=None: (labels.astype(float), np.ones(1, bool))
+    r, _ = pred.residuals(np.zeros((1, 3)))
+    np.testing.assert_array_equal(-r[0], win.residual_windows())
+
+
 def test_too_few_windows_keep_the_white_uncertainty_and_say_so():
     rng = np.random.default_rng(5)
     x, e, g = _clustered_problem(rng, n_clusters=5)

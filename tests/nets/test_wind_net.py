@@ -198,9 +198,14 @@ def test_a_still_air_wind_net_reads_the_mean_flow_with_no_wind_to_learn_from(
     df, meta = read_flight_table(est)
     assert meta["not_estimated"] == list(WIND_OUTPUTS[3:])
     assert df[list(WIND_OUTPUTS[3:])].isna().all().all()
-    # the map takes a wind table without rotation
-    assert main(["wind", "map", str(est), "--flight", str(ship), "--out",
-                 str(tmp_path / "map"), "--min-seconds", "0.5"]) == 0
+    # the map takes a wind table without rotation, and does not warn about it
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert main(["wind", "map", str(est), "--flight", str(ship), "--out",
+                     str(tmp_path / "map"), "--min-seconds", "0.5"]) == 0
+    assert not [w for w in caught if "_rad_s" in str(w.message)], caught
     assert (tmp_path / "map" / "map.parquet").is_file()
 
 

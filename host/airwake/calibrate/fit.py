@@ -13,6 +13,8 @@ calibration's windows), the cluster-robust ("sandwich") covariance
 
 takes whatever correlation the residuals have within a window from the residuals
 themselves (on the blade-element still-air flight its 1-sigma are 6-35x the white ones).
+Windows next to each other are not independent either (a manoeuvre, a misfit lasts
+longer than 2 s), so it is still optimistic, less so.
 It is used when there are at least `MIN_CLUSTERS_PER_PARAMETER` clusters per free
 parameter (fewer make its middle matrix too poorly estimated); otherwise the white
 formula, with a note that says so. Model error shared between windows is in neither.
@@ -88,6 +90,9 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
                 # per cluster the score J_g^T r_g (normalised columns), summed outer products
                 scores = np.zeros((n_clusters, jn.shape[1]))
                 np.add.at(scores, inverse, jn * residual[:, None])
+                # centred: at a least-squares optimum the scores sum to zero; a PSO
+                # answer (fitted on a subset of windows) need not be one
+                scores -= scores.mean(axis=0)
                 meat = scores.T @ scores * n_clusters / (n_clusters - 1)
                 cov = cov_n @ meat @ cov_n / np.outer(norms, norms)
                 kind = "clustered"
@@ -129,7 +134,7 @@ def identifiability_notes(names, values, unc: Uncertainty, at_bound) -> tuple[li
             if np.isfinite(c) and abs(c) > CORR_LIMIT:
                 notes.append(f"{names[a]} and {names[b]} strongly correlated (rho = {c:+.3f}): "
                              "the flight constrains a combination of them")
-    if unc.clusters and unc.kind == "white":
+    if unc.clusters and unc.kind == "white" and (~np.isnan(unc.std)).any():
         notes.append(f"only {unc.clusters} windows for {int((~np.isnan(unc.std)).sum())} "
                      "free parameters: the 1-sigma assume white residuals and are "
                      "optimistic (a longer flight or more windows give the windows' own)")

@@ -222,24 +222,24 @@ def _map_handle(args: argparse.Namespace) -> int:
     from airwake.record.flight_table import (
         FlightTableError,
         load_flight_table,
-        validate_flight_table,
+        read_flight_metadata,
     )
 
     out = Path(args.out)
     if not out.parent.is_dir():
         raise WindEstimationError(f"cannot write {out}: directory {out.parent} does not exist")
     try:
+        # the components the estimator did not estimate (NaN throughout: a still-air
+        # wind net's rotation) are neither checked nor warned about; the map shows them
+        # empty
+        skip = set(read_flight_metadata(args.wind).get("not_estimated") or ())
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            wind = load_flight_table(args.wind, required=(), reads=())
-        # the components the estimator did not estimate (NaN throughout: a still-air
-        # wind net's rotation) are left unchecked and unwarned; the map shows them empty
-        skip = set(wind.metadata.get("not_estimated") or ())
+            wind = load_flight_table(args.wind, required=(), reads=[
+                c for n in WIND_NAMES if n not in skip for c in (n, f"{n}_std")])
         for w in caught:
             if not any(f"'{n}" in str(w.message) for n in skip):
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        validate_flight_table(wind.df, str(args.wind), (), [
-            c for n in WIND_NAMES if n not in skip for c in (n, f"{n}_std")])
     except FlightTableError as exc:
         raise WindEstimationError(str(exc)) from None
     try:

@@ -356,7 +356,9 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
     card = loaded.card
     rms = card["validation_rms"]
     std = np.tile([rms[n]["net"] for n in WIND_NAMES], (len(est), 1))
-    std[:, ~np.isfinite(est[list(WIND_NAMES)].to_numpy(float)).all(axis=0)] = np.nan
+    # what the net does not estimate (a still-air net's rotation: NaN throughout)
+    none = ~np.isfinite(est[list(WIND_NAMES)].to_numpy(float)).any(axis=0)
+    std[:, none] = np.nan
     df = _frame(est["t_s"].to_numpy(float), est[list(WIND_NAMES)].to_numpy(float), std,
                 ins_velocity_std)
     t = df["t_s"].to_numpy(float)
@@ -369,7 +371,7 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
         "net_training_flights": [f["path"] for f in card.get("training_flights", [])],
         "net_validation_rms": rms,
         "std_is": "the net's validation RMS per output (model card), INS error added",
-        "not_estimated": [n for n in WIND_NAMES if not np.isfinite(df[n]).any()],
+        "not_estimated": [n for n, no in zip(WIND_NAMES, none, strict=True) if no],
         "frame": "body axes at the main-rotor hub (eq 5.3)",
         "ins_velocity_std_m_s": float(ins_velocity_std),
         "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),
@@ -454,7 +456,8 @@ def score_wind(wind_df, flight_df, burn_in_s: float = 2.0) -> dict:
         err = est - tru
         std_post = np.asarray(wind_df[f"{name}_std"], float)[keep]
         ref_mean, ref_std = TABLE_5_3[name]
-        ok = err.size > 1 and bool(np.all(np.isfinite(est)))  # NaN: not estimated
+        # NaN throughout: a component the estimator does not estimate
+        ok = err.size > 1 and bool(np.isfinite(est).any())
         corr = float(np.corrcoef(est, tru)[0, 1]) if ok and np.std(est) > 0 and np.std(
             tru) > 0 else float("nan")
         out["components"][name] = {
