@@ -112,6 +112,11 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
     return flight, spec, time.perf_counter() - t0
 
 
+def _short(name: str) -> str:
+    """wind_vx_m_s -> vx: a component's name in the bench's keys."""
+    return name.replace("wind_", "").split("_")[0]
+
+
 STILL_AIR_FLIGHTS = (("still_air_calibration", (111, 112, 113)),
                      ("still_air_speed_legs", (121, 122, 123)))
 
@@ -153,7 +158,7 @@ def _still_air_net_figures(flight: Path, net: Path, made_s: float) -> dict:
            "still_air_net_prepare_s": made_s}
     for name in ("wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"):
         c = res["score"]["components"][name]
-        short = name.replace("wind_", "").split("_")[0]
+        short = _short(name)
         out[f"still_air_net_error_mean_{short}"] = c["error_mean"]
         out[f"still_air_net_error_std_{short}"] = c["error_std"]
         out[f"still_air_net_coverage90_{short}"] = c["coverage_90"]
@@ -295,7 +300,7 @@ def run(quick: bool = False) -> dict:
         **fields,
     }
     for name, c in res["score"]["components"].items():
-        short = name.replace("wind_", "").split("_")[0]
+        short = _short(name)
         out[f"wind_error_mean_{short}"] = c["error_mean"]
         out[f"wind_error_std_{short}"] = c["error_std"]
         out[f"wind_correlation_{short}"] = c["correlation"]

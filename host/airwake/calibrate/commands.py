@@ -32,11 +32,11 @@ def print_report(result, out_path, stream=None) -> None:
     ra = math.sqrt(sum(v * v for v in result.rms_after) / 6)
     w(f"{'all (rms)':<14}{'':>12}{rb:>12.4g}{ra:>12.4g}\n\n")
     width = max(len(n) for n in result.names)
-    white = result.std if result.std_white is None else result.std_white
     w(f"{'parameter':<{width}}  {'start':>11}  {'fitted':>11}  {'1-sigma':>10}"
       f"  {'if white':>10}\n")
     for n, s, v, d, dw, b, i in zip(result.names, result.start, result.values, result.std,
-                                    white, result.at_bound, result.identifiable, strict=True):
+                                    result.white_std, result.at_bound, result.identifiable,
+                                    strict=True):
         flag = " at bound" if b else ("" if i else " (poorly identified)")
         w(f"{n:<{width}}  {s:>11.5g}  {v:>11.5g}  {_fmt(float(d)):>10}"
           f"  {_fmt(float(dw)):>10}{flag}\n")

@@ -13,11 +13,11 @@ calibration's windows), the cluster-robust ("sandwich") covariance
 
 takes whatever correlation the residuals have within a window from the residuals
 themselves (on the blade-element still-air flight its 1-sigma are 6-35x the white ones).
-Windows next to each other are not independent either (a manoeuvre, a misfit lasts
-longer than 2 s), so it is still optimistic, less so.
 It is used when there are at least `MIN_CLUSTERS_PER_PARAMETER` clusters per free
 parameter (fewer make its middle matrix too poorly estimated); otherwise the white
-formula, with a note that says so. Model error shared between windows is in neither.
+formula, with a note that says so. It is still optimistic: windows next to each other are
+not independent (a manoeuvre, a misfit lasts longer than 2 s), and model error shared by
+all the windows is in neither formula.
 
 A direction of parameter space J does not see (singular value below 1e-9
 of the largest, columns normalised) gets infinite uncertainty instead of a made-up
@@ -66,6 +66,11 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
     weak = []
     cond = np.nan
     kind, std_white, n_clusters = "white", np.full(p, np.nan), 0
+    if clusters is not None:
+        if np.shape(clusters) != (n,):
+            raise ValueError(f"clusters: {np.shape(clusters)} labels for {n} residuals")
+        labels, inverse = np.unique(np.asarray(clusters), return_inverse=True)
+        n_clusters = labels.size
     if use.any():
         j = jac[:, use]
         norms = np.linalg.norm(j, axis=0)
@@ -81,21 +86,16 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
         blind = np.any(np.abs(vt[~good]) > 1e-3, axis=0) if (~good).any() else np.zeros(
             use.sum(), bool)
         std_white[use] = np.where(blind, np.inf, np.sqrt(np.maximum(np.diag(cov), 0.0)))
-        if clusters is not None:
-            if np.shape(clusters) != (n,):
-                raise ValueError(f"clusters: {np.shape(clusters)} labels for {n} residuals")
-            labels, inverse = np.unique(np.asarray(clusters), return_inverse=True)
-            n_clusters = labels.size
-            if n_clusters >= MIN_CLUSTERS_PER_PARAMETER * int(use.sum()):
-                # per cluster the score J_g^T r_g (normalised columns), summed outer products
-                scores = np.zeros((n_clusters, jn.shape[1]))
-                np.add.at(scores, inverse, jn * residual[:, None])
-                # centred: at a least-squares optimum the scores sum to zero; a PSO
-                # answer (fitted on a subset of windows) need not be one
-                scores -= scores.mean(axis=0)
-                meat = scores.T @ scores * n_clusters / (n_clusters - 1)
-                cov = cov_n @ meat @ cov_n / np.outer(norms, norms)
-                kind = "clustered"
+        if n_clusters and n_clusters >= MIN_CLUSTERS_PER_PARAMETER * int(use.sum()):
+            # per cluster the score J_g^T r_g (normalised columns), summed outer products
+            scores = np.zeros((n_clusters, jn.shape[1]))
+            np.add.at(scores, inverse, jn * residual[:, None])
+            # centred: at a least-squares optimum the scores sum to zero; a PSO answer
+            # (fitted on a subset of windows) need not be one
+            scores -= scores.mean(axis=0)
+            meat = scores.T @ scores * n_clusters / (n_clusters - 1)
+            cov = cov_n @ meat @ cov_n / np.outer(norms, norms)
+            kind = "clustered"
         d = np.where(blind, np.inf, np.sqrt(np.maximum(np.diag(cov), 0.0)))
         std[use] = d
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -107,8 +107,6 @@ def uncertainty(jac: np.ndarray, residual: np.ndarray, names, free_values,
             v = vt[-k]
             order = np.argsort(-np.abs(v))[:3]
             weak.append((float(s[-k] / s[0]), [(used_names[i], float(v[i])) for i in order]))
-    if clusters is not None and n_clusters == 0:
-        n_clusters = int(np.unique(np.asarray(clusters)).size)
     return Uncertainty(std, corr, sigma2, cond, weak, kind, std_white, n_clusters)
 
 
@@ -170,6 +168,11 @@ class FitResult:
     seconds: float = 0.0
     info: dict = field(default_factory=dict)
 
+    @property
+    def white_std(self) -> np.ndarray:
+        """The 1-sigma if the residuals were white (`std` when no other was computed)."""
+        return self.std if self.std_white is None else self.std_white
+
     def to_dict(self) -> dict:
         from airwake.heli.context import MEAS_CHANNELS
 
@@ -192,8 +195,7 @@ class FitResult:
                 n: {"start": float(s), "value": float(v), "std": num(d),
                     "std_white": num(w), "at_bound": bool(b), "identifiable": bool(i)}
                 for n, s, v, d, w, b, i in zip(
-                    self.names, self.start, self.values, self.std,
-                    self.std if self.std_white is None else self.std_white,
+                    self.names, self.start, self.values, self.std, self.white_std,
                     self.at_bound, self.identifiable, strict=True)
             },
             "identifiability": list(self.notes),

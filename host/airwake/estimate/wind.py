@@ -355,12 +355,12 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
     seconds = time.perf_counter() - t0
     card = loaded.card
     rms = card["validation_rms"]
+    mean = est[list(WIND_NAMES)].to_numpy(float)
     std = np.tile([rms[n]["net"] for n in WIND_NAMES], (len(est), 1))
     # what the net does not estimate (a still-air net's rotation: NaN throughout)
-    none = ~np.isfinite(est[list(WIND_NAMES)].to_numpy(float)).any(axis=0)
+    none = ~np.isfinite(mean).any(axis=0)
     std[:, none] = np.nan
-    df = _frame(est["t_s"].to_numpy(float), est[list(WIND_NAMES)].to_numpy(float), std,
-                ins_velocity_std)
+    df = _frame(est["t_s"].to_numpy(float), mean, std, ins_velocity_std)
     t = df["t_s"].to_numpy(float)
     span = float(t[-1] - t[0]) if t.size > 1 else 0.0
     meta = {

@@ -87,14 +87,21 @@ class WindNetConfig:
             raise ValueError(f"WindNetConfig.smooth_s = {self.smooth_s!r}: must be >= 0")
 
 
-def _df(table):
+def _loaded(table):
+    """A FlightTable or DataFrame as given; a path loaded once (the helpers below read its
+    columns several times)."""
     from airwake.record.flight_table import FlightTable, load_flight_table
 
-    if isinstance(table, FlightTable):
-        return table.df, str(table.path or "<table>")
+    if isinstance(table, FlightTable | pd.DataFrame):
+        return table
+    return load_flight_table(table, required=())
+
+
+def _df(table):
+    table = _loaded(table)
     if isinstance(table, pd.DataFrame):
         return table, "<table>"
-    return load_flight_table(table, required=()).df, str(table)
+    return table.df, str(table.path or "<table>")
 
 
 def wind_feature_matrix(inputs, roll_rad, pitch_rad, rates_rad_s, motion, rate_hz: float,
@@ -181,7 +188,7 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
     t0 = time.perf_counter()
     rng = np.random.default_rng(seed)
     xs, ys, labels, flights, names, rates = [], [], [], [], None, []
-    for table in tables:
+    for table in map(_loaded, tables):
         t, x, names, rate_hz, truth = wind_features(table, fcfg, config)
         if config.labels == "still_air":
             truth = still_air_labels(table, t, truth)
@@ -242,6 +249,7 @@ def predict_wind(net: PilotNet, table, smooth_s: float | None = None) -> pd.Data
         raise NetFileError(f"a {net.card.get('target')!r} net is not a wind net")
     config = WindNetConfig(**net.card["wind_net_config"])
     fcfg = FeatureConfig.from_dict(net.card["feature_config"])
+    table = _loaded(table)
     t, x, names, rate_hz, _ = wind_features(table, fcfg, config)
     if names != net.card["features"]:
         raise NetFileError(f"the wind net's card lists features {net.card['features']}, "
