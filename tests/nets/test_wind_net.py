@@ -101,24 +101,25 @@ def test_wind_net_cli_refuses_what_does_not_apply(truth_world_flight, tmp_path, 
     assert not (tmp_path / "w.parquet").exists()
 
 
-def test_live_wind_equals_predict_wind_once_its_history_is_filled(wind_net, truth_world_flight):
-    # what the daemon records on /host/wind must be the estimate the export gives
+@pytest.fixture(scope="module")
+def still_air_net(truth_world_flight):
+    return train_wind_net([truth_world_flight("still_air_calibration", 5, 60.0)],
+                          still_air=True)
+
+
+def _live_wind(net, df, batch_s):
+    """What LiveWind sends for a flight table's rows fed as the daemon feeds them, and
+    how late each sample comes (s of INS time)."""
     import math
     from collections import namedtuple
 
-    from airwake.nets.live_wind import WIND_SCHEMA, LiveWind
-    from airwake.record.rigging import BLADE_PITCH_COLUMNS, DEFAULT_RIGGING
+    from airwake.nets.live_wind import LiveWind
+    from airwake.record.rigging import DEFAULT_RIGGING
 
     Ins = namedtuple("Ins", "ypr_deg angular_rate_frd_rad_s vel_ned_m_s accel_frd_m_s2")
     Pilot = namedtuple("Pilot", "pwm_us valid_mask")
-    df = pd.read_parquet(truth_world_flight("ship_airwake_b0", 5, 60.0)).iloc[:1200]
-    df = df.reset_index(drop=True)
     pwm = df[[f"pwm_ch{c}_us" for c in range(1, 6)]].to_numpy()
-    pitch = DEFAULT_RIGGING.pwm_to_blade_pitch(pwm)  # the live path's blade pitch
-    for j, name in enumerate(BLADE_PITCH_COLUMNS):
-        df[name] = pitch[:, j]
-    offline = predict_wind(wind_net, df)
-    live = LiveWind(wind_net, batch_s=0.2)
+    live = LiveWind(net, DEFAULT_RIGGING, batch_s=batch_s)
     out, lags = [], []
     for row in df.itertuples():
         live.on_pilot_inputs(row.t_s, Pilot(tuple(pwm[row.Index]), 0x1F))
@@ -130,7 +131,27 @@ def test_live_wind_equals_predict_wind_once_its_history_is_filled(wind_net, trut
         new = live.step()
         lags += [row.t_s - s["t_s"] for s in new]
         out += new
-    out += live.step(force=True)
+    return out + live.step(force=True), lags
+
+
+def _flight_as_the_daemon_sees_it(path, rows):
+    from airwake.record.rigging import BLADE_PITCH_COLUMNS, DEFAULT_RIGGING
+
+    df = pd.read_parquet(path).iloc[:rows].reset_index(drop=True)
+    pwm = df[[f"pwm_ch{c}_us" for c in range(1, 6)]].to_numpy()
+    pitch = DEFAULT_RIGGING.pwm_to_blade_pitch(pwm)  # the live path's blade pitch
+    for j, name in enumerate(BLADE_PITCH_COLUMNS):
+        df[name] = pitch[:, j]
+    return df
+
+
+def test_live_wind_equals_predict_wind_once_its_history_is_filled(wind_net, truth_world_flight):
+    # what the daemon records on /host/wind must be the estimate the export gives
+    from airwake.nets.live_wind import WIND_SCHEMA
+
+    df = _flight_as_the_daemon_sees_it(truth_world_flight("ship_airwake_b0", 5, 60.0), 1200)
+    offline = predict_wind(wind_net, df)
+    out, lags = _live_wind(wind_net, df, 0.2)
     assert len(out) == len(df)
     got = pd.DataFrame(out)
     assert np.allclose(got["t_s"], df["t_s"])
@@ -146,6 +167,45 @@ def test_live_wind_equals_predict_wind_once_its_history_is_filled(wind_net, trut
         assert np.allclose(got[col].to_numpy()[inner], offline[col].to_numpy()[inner],
                            rtol=1e-5, atol=1e-7), col
     assert set(WIND_SCHEMA["required"]) <= set(out[-1])
+
+
+def test_live_still_air_wind_is_the_exports_smoothed_mean_flow(still_air_net, wind_net,
+                                                               truth_world_flight):
+    # a still-air net live: the INS velocity less the net's air velocity, smoothed by the
+    # export's centred kernel (so 1.5 s later than a truth-trained net), no rotation
+    import json
+
+    from airwake.nets.live_wind import WIND_SCHEMA
+
+    df = _flight_as_the_daemon_sees_it(truth_world_flight("ship_airwake_b0", 5, 60.0), 1500)
+    offline = predict_wind(still_air_net, df)
+    out, lags = _live_wind(still_air_net, df, 0.5)
+    assert len(out) == len(df)
+    got = pd.DataFrame(out)
+    assert np.allclose(got["t_s"], df["t_s"])
+    half_kernel = 3 * 0.5 * 150
+    assert min(lags) >= (7 + half_kernel) / 150 - 1e-9
+    assert max(lags) <= 0.5 + (8 + half_kernel) / 150
+    valid = got["valid"].to_numpy()
+    assert valid[-1] and not valid[0] and valid.sum() > 1500 - 2 * 460
+    inner = valid.copy()
+    inner[-(7 + int(half_kernel)):] = False  # the derivative's edge fit, smoothed in
+    for col in WIND_OUTPUTS[:3]:
+        assert np.allclose(got[col].to_numpy()[inner], offline[col].to_numpy()[inner],
+                           rtol=1e-5, atol=1e-6), col
+    # valid once its kernel holds no row of the history's warm-up: the kernel's half
+    # length after a truth-trained net of the same windows
+    unsmoothed = pd.DataFrame(_live_wind(wind_net, df.iloc[:700], 0.5)[0])["valid"]
+    assert int(np.argmax(valid)) == int(np.argmax(unsmoothed)) + half_kernel
+    kinds = {"number": (int, float), "null": (type(None),), "boolean": (bool,)}
+    for o in out[::100]:
+        assert all(o[c] is None for c in WIND_OUTPUTS[3:])
+        o = json.loads(json.dumps(o, allow_nan=False))  # JSON as recorded: no NaN
+        assert set(WIND_SCHEMA["required"]) <= set(o)
+        for name, v in o.items():
+            allowed = WIND_SCHEMA["properties"][name]["type"]
+            allowed = [allowed] if isinstance(allowed, str) else allowed
+            assert isinstance(v, tuple(t for a in allowed for t in kinds[a])), (name, v)
 
 
 def test_live_wind_refuses_a_rate_net(wind_net):
@@ -209,13 +269,8 @@ def test_a_still_air_wind_net_reads_the_mean_flow_with_no_wind_to_learn_from(
     assert (tmp_path / "map" / "map.parquet").is_file()
 
 
-def test_a_still_air_wind_net_refuses_a_windy_flight_and_the_live_path(truth_world_flight):
-    from airwake.nets.live_wind import LiveWind
+def test_a_still_air_wind_net_refuses_a_windy_flight(truth_world_flight):
     from airwake.record.flight_table import FlightTableError
 
     with pytest.raises(FlightTableError, match="not a still-air flight"):
         train_wind_net([truth_world_flight("ship_airwake_b0", 5, 60.0)], still_air=True)
-    net = train_wind_net([truth_world_flight("still_air_calibration", 5, 60.0)],
-                         still_air=True)
-    with pytest.raises(NetFileError, match="does not run live yet"):
-        LiveWind(net)

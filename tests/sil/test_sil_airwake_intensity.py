@@ -132,6 +132,7 @@ def test_live_wind_matches_the_wind_net_on_the_exported_flight(net_flight):
 
     _, rec, built, wind = net_flight
     assert rec.metadata["live_wind_net"]["path"] == str(wind)
+    assert rec.metadata["live_wind_net"]["labels"] == "truth"
     samples = [m.json() for m in rec.messages(["/host/wind"])]
     assert len(samples) > 0.8 * 150 * (SIL_S - 1.0)
     live_t = np.array([s["t_s"] for s in samples])

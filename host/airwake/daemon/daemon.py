@@ -173,6 +173,7 @@ class Daemon:
             card = self.wind.net.card
             net_meta["live_wind_net"] = {
                 "path": str(options.wind_net), "rate_hz": card["rate_hz"],
+                "labels": self.wind.config.labels,
                 "training_flights": [f.get("path") for f in card.get("training_flights", [])],
                 "validation_rms": card.get("validation_rms")}
         self.live = None

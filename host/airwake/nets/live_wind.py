@@ -14,6 +14,12 @@ export's. Every `batch_s` (0.5 s) of rows `step()` builds the features
 the net: for the same rows the numbers `predict_wind` gives on the exported flight once
 the history is filled (a test feeds a flight through both). The channel lags the INS by
 up to `batch_s` + the half window.
+
+A still-air net (`nets train --target wind --still-air`) gives the air-relative velocity;
+the mean flow is the INS body velocity less it, smoothed by the net's centred Gaussian
+(`smooth_s`, 0.5 s) as the export smooths it: a row is sent once the kernel's half
+length (3 smooth_s, 1.5 s) of rows after it is estimated, so the channel lags the INS by
+that much more, and its numbers are again the export's. ω it never saw: null.
 """
 
 from __future__ import annotations
@@ -24,10 +30,11 @@ from collections import deque
 import numpy as np
 import torch
 
-from airwake.nets.features import FeatureConfig
+from airwake.nets.features import FeatureConfig, gaussian_kernel
 from airwake.nets.live import PilotAligned
 from airwake.nets.model import NetFileError, PilotNet
 from airwake.nets.wind_net import (
+    MOTION,
     TARGET,
     WIND_OUTPUTS,
     WindNetConfig,
@@ -54,7 +61,11 @@ WIND_SCHEMA = {
     "properties": {
         "t_s": {"type": "number", "description": "host monotonic time of the INS sample (s)"},
         **{o: {"type": "number", "description": f"the net's estimate ({u})"}
-           for o, u in _UNITS.items()},
+           for o, u in _UNITS.items() if u == "m/s"},
+        **{o: {"type": ["number", "null"],
+               "description": f"the net's estimate ({u}); null: not estimated (a still-air "
+                              "net)"}
+           for o, u in _UNITS.items() if u != "m/s"},
         "valid": {"type": "boolean", "description": "the features' history filled"},
     },
     "required": ["t_s", *WIND_OUTPUTS, "valid"],
@@ -72,11 +83,6 @@ class LiveWind(PilotAligned):
         if card.get("target") != TARGET:
             raise NetFileError(f"--wind-net: a {card.get('target')!r} net; the live wind "
                                "needs a wind net (airwake nets train --target wind)")
-        if (card.get("wind_net_config") or {}).get("labels") == "still_air":
-            raise NetFileError("--wind-net: a still-air wind net (its mean flow is the INS "
-                               "velocity less the net's air velocity) does not run live yet; "
-                               "use it on the exported flight (airwake wind estimate "
-                               "--method net)")
         if card.get("input_source") != "delta":
             raise NetFileError(f"--wind-net: trained on {card.get('input_source')!r} inputs; "
                                "the daemon feeds blade pitch (delta) from the RC pulse widths")
@@ -98,6 +104,16 @@ class LiveWind(PilotAligned):
         self.keep = history + 2 * self.half + 2
         self.batch = max(1, int(round(batch_s * self.rate_hz)))
         self.rows: deque = deque(maxlen=self.keep + 10 * self.batch)
+        self.still_air = self.config.labels == "still_air"
+        self.motion = [MOTION.index(c) for c in self.config.motion]
+        # the export's centred smoothing (a still-air net's): raw estimates wait in `raw`
+        # until the kernel's half length after them is in
+        self.kernel = (gaussian_kernel(self.rate_hz, self.config.smooth_s,
+                                       3.0 * self.config.smooth_s, causal=False)
+                       if self.config.smooth_s > 0 else np.ones(1))
+        self.half_kernel = self.kernel.size // 2
+        self.raw: deque = deque()  # (t_s, estimate (6,), valid) not sent yet
+        self.sent: deque = deque(maxlen=self.half_kernel)  # the last ones sent
         self.pending = 0
         self.seen = 0
         self.samples_out = 0
@@ -120,22 +136,53 @@ class LiveWind(PilotAligned):
         rates, vel_ned, accel = a[:, 8:11], a[:, 11:14], a[:, 14:17]
         rate_dot = smooth_derivative(t, rates, DERIVATIVE_WINDOW_S, DERIVATIVE_POLYORDER)
         vel_body = np.einsum("nji,nj->ni", euler_to_dcm(roll, pitch, yaw), vel_ned)
-        motion = np.column_stack([rate_dot[:, :2], vel_body, accel])
-        x, _ = wind_feature_matrix(inputs, roll, pitch, rates, motion, self.rate_hz,
-                                   self.features, self.config)
+        motion = np.column_stack([rate_dot[:, :2], vel_body, accel])  # MOTION's order
+        x, _ = wind_feature_matrix(inputs, roll, pitch, rates, motion[:, self.motion],
+                                   self.rate_hz, self.features, self.config)
         end = len(a) - (self.pending - ready)  # rows [end - ready, end) are estimated
         est = self.net.predict_numpy(x[end - ready:end])
+        if self.still_air:  # the mean flow: the body velocity less the air velocity
+            est = np.column_stack([vel_body[end - ready:end] - est[:, :3],
+                                   np.full((ready, 3), np.nan)])
         first = self.seen - self.pending  # stream index of the first estimated row
-        out = []
-        for i in range(ready):
-            o = {"t_s": float(t[end - ready + i])}
-            o.update({name: float(est[i, k]) for k, name in enumerate(WIND_OUTPUTS)})
-            o["valid"] = bool(first + i >= self.warmup)
-            out.append(o)
+        self.raw.extend((float(t[end - ready + i]), est[i], first + i >= self.warmup)
+                        for i in range(ready))
         self.pending -= ready
+        out = self._smoothed(force)
         self.samples_out += len(out)
+        return out
+
+    def _smoothed(self, force: bool) -> list[dict]:
+        """The raw estimates whose kernel is complete (every one at a flight's end), each
+        smoothed as `predict_wind` smooths: the flight's first estimate repeated before
+        it, its last after."""
+        k = self.half_kernel
+        n = len(self.raw) if force else len(self.raw) - k
+        if n <= 0:
+            return []
+        rows = list(self.raw)
+        if k:
+            before = list(self.sent) or rows[:1]
+            rows = [*([before[0]] * (k - len(before))), *before, *rows,
+                    *([rows[-1]] * (k if force else 0))]
+        est = np.asarray([r[1] for r in rows])
+        smooth = np.lib.stride_tricks.sliding_window_view(est, self.kernel.size, axis=0)[:n]
+        smooth = smooth @ self.kernel  # (n, 6)
+        out = []
+        for i in range(n):
+            row = self.raw.popleft()
+            # the export's number once every raw row in its kernel is (the history fills
+            # in order: the oldest decides; before the flight's first, its copies)
+            valid = rows[i][2]
+            o = {"t_s": row[0]}
+            o.update({name: None if math.isnan(v) else float(v)
+                      for name, v in zip(WIND_OUTPUTS, smooth[i], strict=True)})
+            o["valid"] = bool(valid)
+            out.append(o)
+            self.sent.append(row)
         return out
 
     def status(self) -> dict:
         return {"samples": self.samples_out, "skipped": self.skipped, "held": self.held,
-                "net_rate_hz": self.rate_hz, "batch": self.batch, "lag_rows": self.half}
+                "net_rate_hz": self.rate_hz, "batch": self.batch,
+                "lag_rows": self.half + self.half_kernel, "labels": self.config.labels}
