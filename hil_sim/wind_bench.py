@@ -29,7 +29,7 @@ each after a warm-up that loads the compiled model kernels:
 - `still_air_net_error_mean_*`, `still_air_net_error_std_*`, `still_air_net_coverage90_*`
   (v_x, v_y, v_z): the still-air wind net (docs/networks.md "Still-air labels": `airwake
   nets train --target wind --still-air` on blade-element still-air flights —
-  `still_air_calibration` seeds 111-113 and `still_air_speed_legs` 121-123, no truth wind
+  `still_air_calibration` seeds 111-113 and `still_air_cruise` 131-133, no truth wind
   read — then `airwake wind estimate --method net`) on the same SIL flight;
   `still_air_net_realtime_factor` its estimate's flight seconds per wall second,
   `still_air_net_prepare_s` the seconds spent flying and training it (0 when cached in
@@ -118,7 +118,7 @@ def _short(name: str) -> str:
 
 
 STILL_AIR_FLIGHTS = (("still_air_calibration", (111, 112, 113)),
-                     ("still_air_speed_legs", (121, 122, 123)))
+                     ("still_air_cruise", (131, 132, 133)))
 
 
 def prepare_still_air_net(quick: bool) -> tuple[Path, float]:

@@ -13,7 +13,8 @@ from hil_sim.world.scenario import (
     scenario_names,
 )
 
-REQUIRED = ("still_air_calibration", "still_air_speed_legs", "fans_indoor", "ship_airwake_b0",
+REQUIRED = ("still_air_calibration", "still_air_speed_legs", "still_air_cruise", "fans_indoor",
+            "ship_airwake_b0",
             "ship_airwake_b15",
             "hidden_ground_effect", "hidden_lever_arm", "hidden_servo_lag",
             "hidden_rotor_droop", "hidden_dynamic_inflow", "hidden_wake_recirculation",

@@ -51,8 +51,9 @@ def register(subparsers) -> None:
     t.add_argument("--still-air", action="store_true",
                    help="--target wind on still-air flights, no truth needed: learn the "
                    "velocity through the air with the INS body velocity as its label; at sea "
-                   "the mean flow is the INS velocity less the net's (ω not estimated; "
-                   "docs/networks.md)")
+                   "the mean flow is the INS velocity less the net's (ω not estimated). "
+                   "Fly steady legs at the relative wind you expect at sea, as the "
+                   "still_air_cruise scenario does (docs/networks.md)")
     t.add_argument("--pilot-only", action="store_true",
                    help="no rate fed back: predict the rates from the pilot's inputs and the "
                    "attitude alone (eq 2.4's ω′; --rate-lag and --rate-history unused)")
