@@ -257,6 +257,7 @@ def test_a_still_air_wind_net_reads_the_mean_flow_with_no_wind_to_learn_from(
         assert np.isnan(comp[name]["error_rms"]) and np.isnan(comp[name]["coverage_90"])
     df, meta = read_flight_table(est)
     assert meta["not_estimated"] == list(WIND_OUTPUTS[3:])
+    assert "measured in still air" in meta["std_is"]  # the interval says what it is
     assert df[list(WIND_OUTPUTS[3:])].isna().all().all()
     # the map takes a wind table without rotation, and does not warn about it
     import warnings

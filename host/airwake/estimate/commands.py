@@ -97,6 +97,7 @@ def _handle(args: argparse.Namespace) -> int:
             if not report["held_out"]:
                 line += (" - this flight trained the net: a score here is not a held-out "
                          "one")
+            line += f"\nstd: {est.metadata['std_is']}"
         elif args.method == "apf":
             line += (f", mean ESS {report['mean_ess']:.0f}, resampled "
                      f"{100 * report['resampled_fraction']:.0f} % of samples, skipped "

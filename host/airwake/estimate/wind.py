@@ -370,7 +370,12 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
         "net": path,
         "net_training_flights": [f["path"] for f in card.get("training_flights", [])],
         "net_validation_rms": rms,
-        "std_is": "the net's validation RMS per output (model card), INS error added",
+        "std_is": ("the net's validation RMS per output (model card), INS error added"
+                   + ("; measured in still air, it leaves out the wind's fast part at sea "
+                      "(0.3 Hz and above): the interval is too narrow there "
+                      "(docs/networks.md)"
+                      if (card.get("wind_net_config") or {}).get("labels") == "still_air"
+                      else "")),
         "not_estimated": [n for n, no in zip(WIND_NAMES, none, strict=True) if no],
         "frame": "body axes at the main-rotor hub (eq 5.3)",
         "ins_velocity_std_m_s": float(ins_velocity_std),
