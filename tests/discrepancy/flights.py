@@ -56,21 +56,34 @@ def _tail_thrust_error(relative_change: float):
         run.build_truth_model = original
 
 
-def fly(name: str):
-    """FlightTable of tests/discrepancy/scenarios/<name>.toml (cached per session)."""
-    if name in _FLIGHTS:
-        return _FLIGHTS[name]
+def fly(name: str, blade_element: bool = False, hidden: bool = True):
+    """FlightTable of tests/discrepancy/scenarios/<name>.toml (cached per session); with
+    `blade_element` the independent blade-element truth flown by the crossover pilot, the
+    scenario's (sensor-side) hidden effects on top of its own physics; `hidden=False`: the
+    same flight without them (a control)."""
+    key = (name, blade_element, hidden)
+    if key in _FLIGHTS:
+        return _FLIGHTS[key]
+    from dataclasses import replace
+
     from airwake.record.flight_table import FlightTable
 
     from hil_sim.world.run import run_scenario
     from hil_sim.world.scenario import load_scenario
 
     sc = load_scenario(SCENARIO_DIR / f"{name}.toml")
+    if blade_element:
+        sc = replace(sc, helicopter=replace(sc.helicopter, model="blade_element",
+                                            pilot="crossover"))
+    if not hidden:
+        from hil_sim.world.hidden import HiddenConfig
+
+        sc = replace(sc, hidden=HiddenConfig())
     ctx = _tail_thrust_error(0.25) if name == "tail_airspeed" else contextlib.nullcontext()
     with ctx:
         built = run_scenario(sc).flight_table()
     ft = FlightTable(built.df, dict(built.metadata), None)
-    _FLIGHTS[name] = ft
+    _FLIGHTS[key] = ft
     return ft
 
 
