@@ -28,8 +28,13 @@ own effect model instead, full-state pilot: "our own model", for comparison only
 5. `airwake model compare` in still air and with the estimated wind as the model's input,
    and `airwake model diagnose` in still air: whether the estimated airwake accounts for
    the residual, said as the numbers say it.
-6. report/index.html: the map first, then the estimate's accuracy (bias, scatter, interval
-   coverage against the truth), then the model section.
+6. The mean flow with no model: `airwake sim table` flies the still-air cruise legs
+   (`still_air_cruise`, the first 100 s), `airwake nets train --target wind --still-air`
+   learns the air velocity from them and the calibration flight (no truth read), and
+   `airwake wind estimate --method net` reads the ship flight's mean flow as the INS
+   velocity less it (docs/networks.md "Still-air labels"); scored beside the smoother.
+7. report/index.html: the map first, then the estimate's accuracy (bias, scatter, interval
+   coverage against the truth), the still-air net's beside it, then the model section.
 
 Each step is the command a user would type (run here as `python -m airwake.cli ...`).
 """
@@ -39,6 +44,7 @@ from __future__ import annotations
 import argparse
 import html
 import json
+import math
 import shutil
 import subprocess
 import sys
@@ -58,6 +64,8 @@ TRUTH_PILOTS = {"blade_element": "crossover", "effects": None}
 # the wind explains the residual when, given as the model's input, it leaves every channel
 # within this many times its noise floor (the calibration's own floor is ~5x on pdot)
 AIRWAKE_EXPLAINS = 8.0
+# the still-air net's cruise flight: the scenario's first two legs (out and back at 3.5 m/s)
+CRUISE_S = 100.0
 
 
 def _airwake(*args: str, capture: bool = False):
@@ -135,6 +143,9 @@ def _demo(argv: list[str] | None) -> int:
     p.add_argument("--calibration-s", type=float, default=None,
                    help="length of the still-air calibration flight (default: the whole "
                    "scenario, 160 s)")
+    p.add_argument("--cruise-s", type=float, default=CRUISE_S,
+                   help="length of the still-air cruise flight the still-air wind net "
+                   f"learns from (default {CRUISE_S:g} s)")
     p.add_argument("--truth", choices=sorted(TRUTH_PILOTS), default="blade_element",
                    help="the truth helicopter: the independent blade-element machine with "
                    "the crossover pilot (default), or the host's own effect model with the "
@@ -177,18 +188,35 @@ def _demo(argv: list[str] | None) -> int:
                          "0", "--json", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(model), "--windows",
                          "0", "--wind", str(wind), "--json", capture=True)
+    net_est = still_air_net_step(out, still, scored, truth, args.cruise_s)
     diag = _finish(diag_job)
     for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
                        ("diagnose_still_air", diag), ("wind_estimate", est),
+                       ("wind_estimate_still_air_net", net_est),
                        ("discrepancy_step", {k: str(v) if isinstance(v, Path) else v
                                              for k, v in step.items()})):
         (out / f"{name}.json").write_text(json.dumps(data, indent=1))
-    write_report(report, mapdir, calib, est, amap, still_air, with_wind, args, diag, step)
+    write_report(report, mapdir, calib, est, amap, still_air, with_wind, args, diag, step,
+                 net_est)
     print(f"\ndemo done in {time.monotonic() - t0:.0f} s:\n  baseline     {base}\n"
           f"  recording    {rec}\n  flight table {flight}\n  wind         {wind}\n"
           f"  airwake map  {mapdir / 'map.parquet'} ({', '.join(amap['figures'])})\n"
           f"  report       {report / 'index.html'}\n\n{amap['headline']}", flush=True)
     return 0
+
+
+def still_air_net_step(out: Path, still: Path, flight: Path, truth: list[str],
+                       cruise_s: float) -> dict:
+    """The mean flow with no model (module doc, step 6): the cruise flight, the still-air
+    wind net trained on it and the calibration flight, its estimate on `flight` scored."""
+    cruise, net = out / "cruise.parquet", out / "still_air_net.pt"
+    _airwake("sim", "table", "--scenario", "still_air_cruise", *truth, "--duration",
+             f"{cruise_s:g}", "--quiet", "--out", str(cruise))
+    _airwake("nets", "train", str(still), str(cruise), "--target", "wind", "--still-air",
+             "--quiet", "--out", str(net))
+    return _airwake("wind", "estimate", str(flight), "--method", "net", "--net", str(net),
+                    "--score", "--json", "--out", str(out / "wind_still_air_net.parquet"),
+                    capture=True)
 
 
 def truth_arguments(truth: str) -> list[str]:
@@ -290,9 +318,19 @@ def _candidates(diag: dict, k: int = 3) -> str:
                      + (" (significant)" if c["significant"] else "") for c in tested)
 
 
+def net_rows(net_est: dict, est: dict) -> list:
+    """The still-air net's score per estimated component (its rotation is not: NaN) beside
+    the smoother's bias."""
+    comp, smoother = net_est["score"]["components"], est["score"]["components"]
+    return [(n, f"{c['error_mean']:+.3f}", f"{c['error_std']:.3f}",
+             f"{100 * c['coverage_90']:.0f} %", f"{smoother[n]['error_mean']:+.3f}")
+            for n, c in comp.items() if math.isfinite(c["error_mean"])]
+
+
 def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
-                 still_air: dict, with_wind: dict, args, diag: dict, step: dict) -> Path:
-    """report/index.html: the map, the estimate's accuracy, the model section."""
+                 still_air: dict, with_wind: dict, args, diag: dict, step: dict,
+                 net_est: dict) -> Path:
+    """report/index.html: the map, the estimates' accuracy, the model section."""
     report.mkdir(parents=True, exist_ok=True)
     for f in amap["figures"]:
         shutil.copy(mapdir / f, report / f)
@@ -363,6 +401,14 @@ reference's particle filter on real indoor flights. Truth helicopter: {html.esca
 args.truth == "blade_element" else "the host's own effect model: our own model"}).</p>
 <p>{html.escape(honesty)}</p>
 <p>{html.escape(bound_verdict(comp))}</p>
+<h2>The mean flow with no model: a still-air wind net</h2>
+<p>Trained on the calibration flight and {args.cruise_s:g} s of still-air cruise legs with
+the INS velocity as its label (no model, no truth); the mean flow is the INS velocity less
+the net's air velocity. The rotation it does not estimate.</p>
+<table><tr><th>component</th><th>error mean</th><th>error std</th>
+<th>90 % interval holds the truth</th><th>the smoother's error mean</th></tr>
+{_rows(net_rows(net_est, est))}</table>
+<p>Its interval is its error in still air, too narrow at sea (docs/networks.md).</p>
 <h2>The model on this flight</h2>
 <table><tr><th>channel</th><th>RMS, still air</th><th>/ noise</th>
 <th>RMS, estimated wind as input</th><th>/ noise</th></tr>{_rows(model_rows)}</table>

@@ -21,7 +21,8 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     out = tmp_path / "demo"
     done = subprocess.run(
         [sys.executable, "-m", "hil_sim.boards.demo", "--out", str(out), "--duration", "10",
-         "--calibration-s", "20"], cwd=REPO, capture_output=True, text=True, timeout=900)
+         "--calibration-s", "20", "--cruise-s", "30"], cwd=REPO, capture_output=True,
+        text=True, timeout=900)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     report = out / "report" / "index.html"
     assert f"report       {report}" in done.stdout
@@ -67,6 +68,17 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
         assert c["crlb_std"] > 0 and c["error_over_crlb"] >= 0.7, (name, c)
     # and the report says what limits the estimate, from those ratios
     assert bound_verdict(comp) and html_escape(bound_verdict(comp)) in html
+    # the mean flow with no model: the still-air net, its mean flow scored beside the
+    # smoother's, its rotation not estimated (not in the table)
+    from hil_sim.boards.demo import net_rows
+
+    net = json.loads((out / "wind_estimate_still_air_net.json").read_text())
+    assert net["method"] == "net" and net["held_out"]
+    rows = net_rows(net, json.loads((out / "wind_estimate.json").read_text()))
+    assert [r[0] for r in rows] == ["wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"]
+    assert "a still-air wind net" in html
+    for row in rows:
+        assert "".join(f"<td>{html_escape(c)}</td>" for c in row) in html
     # calibrate -> diagnose -> add, as docs/calibration.md has a user do it
     step = json.loads((out / "discrepancy_step.json").read_text())
     assert step["diagnosis"] in html or html_escape(step["diagnosis"]) in html
