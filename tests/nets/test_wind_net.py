@@ -145,16 +145,23 @@ def _flight_as_the_daemon_sees_it(path, rows):
     return df
 
 
+def _live_and_export(net, path, rows, batch_s):
+    """(live samples, as a frame, predict_wind's, lags) for the first `rows` of a flight:
+    one live sample per row, at the row's time."""
+    df = _flight_as_the_daemon_sees_it(path, rows)
+    out, lags = _live_wind(net, df, batch_s)
+    assert len(out) == len(df)
+    got = pd.DataFrame(out)
+    assert np.allclose(got["t_s"], df["t_s"])
+    return out, got, predict_wind(net, df), lags
+
+
 def test_live_wind_equals_predict_wind_once_its_history_is_filled(wind_net, truth_world_flight):
     # what the daemon records on /host/wind must be the estimate the export gives
     from airwake.nets.live_wind import WIND_SCHEMA
 
-    df = _flight_as_the_daemon_sees_it(truth_world_flight("ship_airwake_b0", 5, 60.0), 1200)
-    offline = predict_wind(wind_net, df)
-    out, lags = _live_wind(wind_net, df, 0.2)
-    assert len(out) == len(df)
-    got = pd.DataFrame(out)
-    assert np.allclose(got["t_s"], df["t_s"])
+    out, got, offline, lags = _live_and_export(
+        wind_net, truth_world_flight("ship_airwake_b0", 5, 60.0), 1200, 0.2)
     valid = got["valid"].to_numpy()
     assert valid[-1] and not valid[0] and valid.sum() > 900
     # the derivative's half window: 7 rows at 150 Hz, plus the batch
@@ -177,12 +184,8 @@ def test_live_still_air_wind_is_the_exports_smoothed_mean_flow(still_air_net, wi
 
     from airwake.nets.live_wind import WIND_SCHEMA
 
-    df = _flight_as_the_daemon_sees_it(truth_world_flight("ship_airwake_b0", 5, 60.0), 1500)
-    offline = predict_wind(still_air_net, df)
-    out, lags = _live_wind(still_air_net, df, 0.5)
-    assert len(out) == len(df)
-    got = pd.DataFrame(out)
-    assert np.allclose(got["t_s"], df["t_s"])
+    path = truth_world_flight("ship_airwake_b0", 5, 60.0)
+    out, got, offline, lags = _live_and_export(still_air_net, path, 1500, 0.5)
     half_kernel = 3 * 0.5 * 150
     assert min(lags) >= (7 + half_kernel) / 150 - 1e-9
     assert max(lags) <= 0.5 + (8 + half_kernel) / 150
@@ -195,7 +198,8 @@ def test_live_still_air_wind_is_the_exports_smoothed_mean_flow(still_air_net, wi
                            rtol=1e-5, atol=1e-6), col
     # valid once its kernel holds no row of the history's warm-up: the kernel's half
     # length after a truth-trained net of the same windows
-    unsmoothed = pd.DataFrame(_live_wind(wind_net, df.iloc[:700], 0.5)[0])["valid"]
+    unsmoothed = pd.DataFrame(_live_wind(wind_net, _flight_as_the_daemon_sees_it(path, 700),
+                                         0.5)[0])["valid"]
     assert int(np.argmax(valid)) == int(np.argmax(unsmoothed)) + half_kernel
     kinds = {"number": (int, float), "null": (type(None),), "boolean": (bool,)}
     for o in out[::100]:
