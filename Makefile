@@ -17,7 +17,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # `make test` runs (tests/link/test_fuzz_smoke.py; firmware/mk/fuzz.mk).
 APT_PACKAGES := gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi \
                 valgrind teensy-loader-cli gcc chromium chromium-driver clang libclang-rt-14-dev
-PYTEST_ARGS ?= -n 2 --dist worksteal  # idle workers take queued tests: the long ones do not end alone
+PYTEST_ARGS ?= -n 2
 BOARD ?=
 
 .PHONY: help setup apt venv gen test test-c test-py firmware native flash bench lint demo sim clean \

@@ -3,6 +3,13 @@ flights for the wind tests (made once per session, shared by the xdist workers).
 
 import pytest
 from airwake.record.flight_table import write_flight_table
+from hypothesis import settings
+
+# Property tests assert properties, not speed (speed is `airwake bench`'s): no per-example
+# deadline, which a loaded 2-core machine misses (a ship-frame round trip took 429 ms of
+# hypothesis's default 200 under the parallel suite)
+settings.register_profile("airwake", deadline=None)
+settings.load_profile("airwake")
 
 
 def _shared_dir(tmp_path_factory):
