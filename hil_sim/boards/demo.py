@@ -32,7 +32,9 @@ own effect model instead, full-state pilot: "our own model", for comparison only
    (`still_air_cruise`, the first 100 s), `airwake nets train --target wind --still-air`
    learns the air velocity from them and the calibration flight (no truth read), and
    `airwake wind estimate --method net` reads the ship flight's mean flow as the INS
-   velocity less it (docs/networks.md "Still-air labels"); scored beside the smoother.
+   velocity less it (docs/networks.md "Still-air labels"), its interval widened by the
+   model's smoother where the net does not follow the wind (`--interval-model`); scored
+   beside the smoother.
 7. report/index.html: the map first, then the estimate's accuracy (bias, scatter, interval
    coverage against the truth), the still-air net's beside it, then the model section.
 
@@ -188,7 +190,7 @@ def _demo(argv: list[str] | None) -> int:
                          "0", "--json", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(model), "--windows",
                          "0", "--wind", str(wind), "--json", capture=True)
-    net_est = still_air_net_step(out, still, scored, truth, args.cruise_s)
+    net_est = still_air_net_step(out, still, scored, truth, args.cruise_s, model)
     diag = _finish(diag_job)
     for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
                        ("diagnose_still_air", diag), ("wind_estimate", est),
@@ -206,17 +208,18 @@ def _demo(argv: list[str] | None) -> int:
 
 
 def still_air_net_step(out: Path, still: Path, flight: Path, truth: list[str],
-                       cruise_s: float) -> dict:
+                       cruise_s: float, model: Path) -> dict:
     """The mean flow with no model (module doc, step 6): the cruise flight, the still-air
-    wind net trained on it and the calibration flight, its estimate on `flight` scored."""
+    wind net trained on it and the calibration flight, its estimate on `flight` scored,
+    its interval widened by `model`'s smoother where it does not follow the wind."""
     cruise, net = out / "cruise.parquet", out / "still_air_net.pt"
     _airwake("sim", "table", "--scenario", "still_air_cruise", *truth, "--duration",
              f"{cruise_s:g}", "--quiet", "--out", str(cruise))
     _airwake("nets", "train", str(still), str(cruise), "--target", "wind", "--still-air",
              "--quiet", "--out", str(net))
     return _airwake("wind", "estimate", str(flight), "--method", "net", "--net", str(net),
-                    "--score", "--json", "--out", str(out / "wind_still_air_net.parquet"),
-                    capture=True)
+                    "--interval-model", str(model), "--score", "--json", "--out",
+                    str(out / "wind_still_air_net.parquet"), capture=True)
 
 
 def truth_arguments(truth: str) -> list[str]:
@@ -408,7 +411,9 @@ the net's air velocity. The rotation it does not estimate.</p>
 <table><tr><th>component</th><th>error mean</th><th>error std</th>
 <th>90 % interval holds the truth</th><th>the smoother's error mean</th></tr>
 {_rows(net_rows(net_est, est))}</table>
-<p>Its interval is its error in still air, too narrow at sea (docs/networks.md).</p>
+<p>Its interval: its error in still air joined to the local disagreement of the model's
+smoother with it above 0.1 Hz, the wind's fast part the net does not follow
+(docs/networks.md).</p>
 <h2>The model on this flight</h2>
 <table><tr><th>channel</th><th>RMS, still air</th><th>/ noise</th>
 <th>RMS, estimated wind as input</th><th>/ noise</th></tr>{_rows(model_rows)}</table>

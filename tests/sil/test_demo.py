@@ -73,7 +73,12 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     from hil_sim.boards.demo import net_rows
 
     net = json.loads((out / "wind_estimate_still_air_net.json").read_text())
+    step0 = json.loads((out / "discrepancy_step.json").read_text())
     assert net["method"] == "net" and net["held_out"]
+    # its interval: the still-air error widened by the model's smoother, said so
+    assert net["interval_model"] == step0["model"]
+    assert "above 0.1 Hz" in net["std_is"]
+    assert all(v > 0 for v in net["interval_fast_std_median_m_s"].values())
     rows = net_rows(net, json.loads((out / "wind_estimate.json").read_text()))
     assert [r[0] for r in rows] == ["wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"]
     assert "a still-air wind net" in html

@@ -65,13 +65,18 @@ def _handle(args: argparse.Namespace) -> int:
         sigma=args.sigma, resampler=args.resampler, ess_threshold=args.ess_threshold,
         jitter=args.jitter, seed=args.seed, process_std=args.process_std,
         channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress,
-        net=args.net)
+        net=args.net, interval_model=args.interval_model)
     write_wind(est, args.out)
     report = {"out": str(args.out), "method": args.method, "samples": int(len(est.df)),
               "seconds": est.seconds, "realtime_factor": est.metadata["realtime_factor"]}
     if args.method == "net":
         report.update(net=args.net, training_flights=est.metadata["net_training_flights"])
         report["held_out"] = not _trained_on(args.flight, report["training_flights"])
+        report["std_is"] = est.metadata["std_is"]
+        if args.interval_model is not None:
+            report.update(interval_model=est.metadata["interval_model"],
+                          interval_fast_std_median_m_s=est.metadata[
+                              "interval_fast_std_median_m_s"])
     elif args.method == "apf":
         report.update(mean_ess=float(est.df["ess"].mean()),
                       resampled_fraction=float(est.df["resampled"].mean()),
@@ -165,6 +170,11 @@ def register(subparsers) -> None:
     p.add_argument("--net", default=None, metavar="WIND.pt",
                    help="net: a wind net of `airwake nets train --target wind` "
                    "(docs/networks.md); its std columns are its validation RMS")
+    p.add_argument("--interval-model", default=None, metavar="SPEC",
+                   help="net: a calibrated model whose smoother, run on the same flight, "
+                   "widens the net's mean-flow interval by their local disagreement above "
+                   "0.1 Hz - the wind's fast part a still-air net does not follow "
+                   "(docs/networks.md); the smoother's options apply to it")
     p.add_argument("--cutoff-hz", type=float, default=None,
                    help="front-end low-pass (6 Hz; below the rotor's 1/rev); apf only: 0 = "
                    "raw flight")

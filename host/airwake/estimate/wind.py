@@ -71,7 +71,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   resampler: str = "systematic", ess_threshold: float | None = None,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
                   channel_scale=None, steps: int | None = None,
-                  progress: bool = False, net=None) -> WindEstimate:
+                  progress: bool = False, net=None, interval_model=None) -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -86,7 +86,10 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     None (default) measures it on the flight against its GNSS velocity
     (`airwake.estimate.ins_error`). accel_bias_std (smoother): the INS's residual
     accelerometer bias on this flight (1 sigma per axis, m/s^2, from its data sheet), a
-    steady force joined to the model's `model_error_offset` in the intervals."""
+    steady force joined to the model's `model_error_offset` in the intervals.
+    interval_model (net): a calibrated model whose smoother's estimate on the same flight
+    widens the net's mean-flow interval by the wind's fast part the net cannot see
+    (`airwake.estimate.net_interval`); the smoother's options above apply to it."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -111,6 +114,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     if (method == "net") != (net is not None):
         raise WindEstimationError("--method net needs --net WIND.pt (and --net needs "
                                   "--method net)")
+    if interval_model is not None and method != "net":
+        raise WindEstimationError("--interval-model widens a wind net's interval: it is for "
+                                  f"--method net, not {method}")
     ft = load_flight(flight)
     ins = ins_velocity_error(getattr(ft, "df", ft), getattr(ft, "metadata", None) or {},
                              ins_velocity_std)
@@ -118,6 +124,12 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     if method == "net":
         est = _run_net(ft, net, ins_velocity_std)
         est.metadata.update(ins.to_dict())
+        if interval_model is not None:
+            ref = estimate_wind(ft, model=interval_model, cutoff_hz=cutoff_hz,
+                                rate_hz=rate_hz, em_passes=em_passes,
+                                airspeed_m_s=airspeed_m_s, ins_velocity_std=ins_velocity_std,
+                                progress=progress)
+            _widen_by_model(est, ref, interval_model)
         return est
     heli = load_model(model)
     try:
@@ -385,6 +397,37 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
         "realtime_factor": span / seconds if seconds > 0 else 0.0,
     }
     return WindEstimate(df, meta, seconds)
+
+
+def _widen_by_model(est: WindEstimate, ref: WindEstimate, spec) -> None:
+    """The net's mean-flow std joined in quadrature to the local RMS of the model
+    smoother's disagreement with it above the net's band (`airwake.estimate.net_interval`);
+    the smoother's time is counted in the estimate's."""
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.estimate.net_interval import HIGHPASS_HZ, MEAN_FLOW, WINDOW_S, disagreement_std
+
+    try:
+        fast = disagreement_std(est.df, ref.df)
+    except ValueError as exc:
+        raise WindEstimationError(f"--interval-model: {exc}") from None
+    for j, name in enumerate(MEAN_FLOW):
+        col = f"{name}_std"
+        est.df[col] = np.sqrt(est.df[col].to_numpy(float) ** 2 + fast[:, j] ** 2)
+    meta = est.metadata
+    est.seconds += ref.seconds
+    t = est.df["t_s"].to_numpy(float)
+    span = float(t[-1] - t[0]) if t.size > 1 else 0.0
+    meta["seconds"] = est.seconds
+    meta["realtime_factor"] = span / est.seconds if est.seconds > 0 else 0.0
+    meta["interval_model"] = str(spec) if not hasattr(spec, "effects") else "<model>"
+    meta["interval_fast_std_median_m_s"] = {
+        n: float(np.median(fast[:, j])) for j, n in enumerate(MEAN_FLOW)}
+    meta["std_is"] = (
+        "the net's validation RMS per output (model card), INS error added, joined in "
+        f"quadrature to the local RMS (Gaussian window, sigma {WINDOW_S:g} s) of the "
+        f"difference between the smoother of {meta['interval_model']} and the net above "
+        f"{HIGHPASS_HZ:g} Hz: the wind's fast part the net does not follow, plus the "
+        "smoother's own fast error (docs/networks.md)")
 
 
 def _rotor_radius(heli) -> float:
