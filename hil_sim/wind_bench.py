@@ -36,6 +36,10 @@ each after a warm-up that loads the compiled model kernels:
   `still_air_net_realtime_factor` its estimate's flight seconds per wall second,
   `still_air_net_prepare_s` the seconds spent flying and training it (0 when cached in
   build/bench-cache/stillnet-<key>).
+- `anchored_error_mean_*`, `anchored_error_std_*`, `anchored_coverage90_*` (all six
+  components): the smoother of the bench model anchored on that widened still-air net's
+  mean flow (`wind estimate --anchor`): the mean flow the net's, the rotation the
+  model's given it.
 
 And what the truth world pays for its wind, per field type (`still_air`, `uniform`,
 `fans_indoor`, `ship_airwake` at their defaults, the airwake at 15 deg):
@@ -158,9 +162,19 @@ def _still_air_net_figures(flight: Path, spec: Path, net: Path, made_s: float) -
                                str(net), *extra, "--score", "--json", "--out",
                                str(net.parent / "wind_on_bench_flight.parquet")))
 
-    res, widened = estimate(), estimate("--interval-model", str(spec))
+    res = estimate()
+    widened = estimate("--interval-model", str(spec))  # the table the anchor reads
+    anchored = json.loads(_cli("wind", "estimate", str(flight), "--model", str(spec),
+                               "--anchor", str(net.parent / "wind_on_bench_flight.parquet"),
+                               "--score", "--json", "--out",
+                               str(net.parent / "anchored_on_bench_flight.parquet")))
     out = {"still_air_net_realtime_factor": res["realtime_factor"],
            "still_air_net_prepare_s": made_s}
+    for name, c in anchored["score"]["components"].items():
+        short = _short(name)
+        out[f"anchored_error_mean_{short}"] = c["error_mean"]
+        out[f"anchored_error_std_{short}"] = c["error_std"]
+        out[f"anchored_coverage90_{short}"] = c["coverage_90"]
     for name in ("wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"):
         c = res["score"]["components"][name]
         short = _short(name)

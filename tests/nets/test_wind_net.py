@@ -309,6 +309,14 @@ def test_a_models_smoother_widens_the_still_air_nets_interval_where_it_misses_th
     assert any(abs(w[n]["error_mean"]) < w[n]["error_std"] for n in v), w
     assert wide.metadata["interval_model"] == str(wind_baseline)
     assert "above 0.1 Hz" in wide.metadata["std_is"]
+    # and anchored on it (`--anchor`), the smoother gives all six components, its mean
+    # flow's interval no narrower than the net's widened one at the same times
+    anchored = estimate_wind(ship, wind_baseline, anchor=wide.df).df
+    t = anchored["t_s"].to_numpy()
+    for n in v:
+        net_std = np.interp(t, wide.df["t_s"], wide.df[f"{n}_std"])
+        assert (anchored[f"{n}_std"].to_numpy() >= net_std - 1e-9).all(), n
+    assert np.isfinite(anchored[list(WIND_OUTPUTS)].to_numpy()).all()
     # it is for a net: the smoother has intervals of its own
     from airwake.estimate.errors import WindEstimationError
 

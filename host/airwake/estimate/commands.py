@@ -65,7 +65,7 @@ def _handle(args: argparse.Namespace) -> int:
         sigma=args.sigma, resampler=args.resampler, ess_threshold=args.ess_threshold,
         jitter=args.jitter, seed=args.seed, process_std=args.process_std,
         channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress,
-        net=args.net, interval_model=args.interval_model)
+        net=args.net, interval_model=args.interval_model, anchor=args.anchor)
     write_wind(est, args.out)
     report = {"out": str(args.out), "method": args.method, "samples": int(len(est.df)),
               "seconds": est.seconds, "realtime_factor": est.metadata["realtime_factor"]}
@@ -88,7 +88,8 @@ def _handle(args: argparse.Namespace) -> int:
     report["ins_velocity_std_source"] = est.metadata["ins_velocity_std_source"]
     if args.score:
         report["score"] = score_wind(est.df, ft.df, args.burn_in_s)
-        if args.method == "smoother":
+        if args.method == "smoother" and args.anchor is None:
+            # (an anchored estimate has information the model's bound does not)
             from airwake.estimate.wind import score_bound, wind_bound
 
             score_bound(report["score"], wind_bound(est, ft.df), est.df)
@@ -175,6 +176,11 @@ def register(subparsers) -> None:
                    "widens the net's mean-flow interval by their local disagreement above "
                    "0.1 Hz - the wind's fast part a still-air net does not follow "
                    "(docs/networks.md); the smoother's options apply to it")
+    p.add_argument("--anchor", default=None, metavar="WIND.parquet",
+                   help="smoother: a wind table made without the model (--method net with a "
+                   "still-air net, best with --interval-model) whose mean flow, with its "
+                   "std, the smoother takes as a measurement: the model then reads the "
+                   "rotation given that mean flow (docs/wind-estimation.md)")
     p.add_argument("--cutoff-hz", type=float, default=None,
                    help="front-end low-pass (6 Hz; below the rotor's 1/rev); apf only: 0 = "
                    "raw flight")

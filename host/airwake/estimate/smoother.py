@@ -166,6 +166,7 @@ class _Pass:
     cs: np.ndarray = None
     gain: np.ndarray = None  # (n, N, N) the RTS gains G_k (row n-1 unused)
     loglik: float = 0.0
+    anchor_gain: np.ndarray = None  # (n, N, 3) the mean-flow anchor's gains (0: none)
 
 
 def _offset_stds(offset_std) -> np.ndarray:
@@ -272,11 +273,15 @@ class WindSmoother:
     relinearise the model; learn: which of "sigma", "noise" the EM updates; noise_floor:
     (6,) the least channel noise the EM may learn — the model's own error on its still-air
     calibration flight (`[calibration] model_error_std`), so that a misfit the model
-    already has in still air is not explained as wind (None: NOISE_FLOOR only)."""
+    already has in still air is not explained as wind (None: NOISE_FLOOR only);
+    anchor: (mean, std), each (n, 3) at the flight's kept samples — a mean-flow estimate
+    made without the model (a still-air wind net's) taken as a measurement of v = mu + xi
+    (its 3 components) after each sample's channel update, so that the rotation is read
+    given that mean flow (NaN rows: no anchor there; None: none)."""
 
     def __init__(self, model, pre: Prefiltered, prior: WindPrior, noise_std=None,
                  iterations: int = ITERATIONS, relinearise: int = RELINEARISE,
-                 learn=LEARN, noise_floor=None) -> None:
+                 learn=LEARN, noise_floor=None, anchor=None) -> None:
         if iterations < 1:
             raise ValueError(f"iterations = {iterations!r}: must be >= 1")
         unknown = set(learn) - set(LEARN)
@@ -310,6 +315,19 @@ class WindSmoother:
         if self.noise_std.shape != (6,) or np.any(~np.isfinite(self.noise_std)) or np.any(
                 self.noise_std <= 0):
             raise ValueError(f"noise_std must be 6 positive numbers, got {noise_std!r}")
+        self.anchor = None
+        if anchor is not None:
+            a_mean, a_std = (np.asarray(a, dtype=float) for a in anchor)
+            n = data.t.size
+            if a_mean.shape != (n, 3) or a_std.shape != (n, 3):
+                raise ValueError(f"anchor: mean and std must be ({n}, 3) at the flight's "
+                                 f"samples, got {a_mean.shape} and {a_std.shape}")
+            ok = np.all(np.isfinite(a_mean), axis=1) & np.all(np.isfinite(a_std), axis=1)
+            if np.any(a_std[ok] <= 0):
+                raise ValueError("anchor: its std must be > 0 where it is given")
+            if not ok.any():
+                raise ValueError("anchor: no sample has a finite mean and std")
+            self.anchor = (np.where(ok[:, None], a_mean, np.nan), a_std, ok)
         self.prop = HiddenPropagator(model, data.dt, None, data.reference_row())
         if not self.prop.valid[0]:
             raise ValueError("the model's rotor dynamics cannot be linearised at this "
@@ -485,11 +503,13 @@ class WindSmoother:
 
     # -- one pass over one run ------------------------------------------------------
     def _forward(self, run: slice, prior: WindPrior, r_diag: np.ndarray, lin: _Lin | None,
-                 online: bool, wind0=None) -> tuple[_Pass, _Lin]:
+                 online: bool, wind0=None, anchored: bool = True) -> tuple[_Pass, _Lin]:
         m, n_s = self.m, self.n_state
         d = self.pre.data
         idx = np.arange(run.start, run.stop)
         n = idx.size
+        anchored = anchored and self.anchor is not None
+        anchor_gain = np.zeros((n, n_s, 3))
         mf = np.empty((n, n_s))
         pf = np.empty((n, n_s, n_s))
         mp = np.empty((n, n_s))
@@ -536,8 +556,23 @@ class WindSmoother:
             p = 0.5 * (p + p.T)
             y = np.linalg.solve(chol, innov)
             loglik -= 0.5 * (y @ y + 2.0 * np.sum(np.log(np.diag(chol))) + 6 * LOG_2PI)
+            if anchored and self.anchor[2][k]:
+                s, p, anchor_gain[j] = self._anchor_update(k, s, p)
             mf[j], pf[j] = s, p
-        return _Pass(mf, pf, mp, pp, phi_all, loglik=loglik), lin
+        return _Pass(mf, pf, mp, pp, phi_all, loglik=loglik, anchor_gain=anchor_gain), lin
+
+    def _anchor_update(self, k: int, s: np.ndarray, p: np.ndarray):
+        """The anchor's mean flow at sample k as a measurement of v (Joseph form):
+        (state, covariance, gain (N, 3))."""
+        mean, std, _ = self.anchor
+        h = self._wind_rows()[:3]
+        r = np.diag(std[k] ** 2)
+        ph = p @ h.T
+        gain = np.linalg.solve(h @ ph + r, ph.T).T
+        s = s + gain @ (mean[k] - h @ s)
+        ikh = np.eye(self.n_state) - gain @ h
+        p = ikh @ p @ ikh.T + gain @ r @ gain.T
+        return s, 0.5 * (p + p.T), gain
 
     @staticmethod
     def _backward(ps: _Pass) -> None:
@@ -671,6 +706,8 @@ class WindSmoother:
                         continue
                     gain = np.linalg.solve(s_cov, ph.T).T
                     d = d + gain @ (eye6 - h_mat @ d)
+                    if ps.anchor_gain is not None:  # the anchor reads no channel
+                        d = d - ps.anchor_gain[j] @ (c[:3] @ d)
                     df[j] = d
                 ds = df.copy()
                 for k in range(n - 2, -1, -1):
@@ -793,7 +830,7 @@ class WindSmoother:
                     out[run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, cov, c), 0))
                     continue
                 ps, _ = self._forward(run, prior, r_diag, lin, online=False,
-                                      wind0=wind[idx[0]])
+                                      wind0=wind[idx[0]], anchored=False)
                 self._backward(ps)
                 out[run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
         return out

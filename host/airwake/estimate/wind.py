@@ -71,7 +71,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   resampler: str = "systematic", ess_threshold: float | None = None,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
                   channel_scale=None, steps: int | None = None,
-                  progress: bool = False, net=None, interval_model=None) -> WindEstimate:
+                  progress: bool = False, net=None, interval_model=None,
+                  anchor=None) -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -89,7 +90,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     steady force joined to the model's `model_error_offset` in the intervals.
     interval_model (net): a calibrated model whose smoother's estimate on the same flight
     widens the net's mean-flow interval by the wind's fast part the net cannot see
-    (`airwake.estimate.net_interval`); the smoother's options above apply to it."""
+    (`airwake.estimate.net_interval`); the smoother's options above apply to it.
+    anchor (smoother): a wind table made without the model (`--method net` with a
+    still-air net; path or DataFrame) whose mean flow and its std are taken as a
+    measurement of v at every sample, so the model reads the rotation given that mean
+    flow (`WindSmoother`'s `anchor`)."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -114,6 +119,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     if (method == "net") != (net is not None):
         raise WindEstimationError("--method net needs --net WIND.pt (and --net needs "
                                   "--method net)")
+    if anchor is not None and method != "smoother":
+        raise WindEstimationError(f"--anchor is for --method smoother, not {method}")
     if interval_model is not None and method != "net":
         raise WindEstimationError("--interval-model widens a wind net's interval: it is for "
                                   f"--method net, not {method}")
@@ -159,7 +166,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
             offset[:3] = np.hypot(offset[:3], accel_bias_std)
         df, extra, seconds, smoother, result = _run_smoother(
             heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
-            airspeed_m_s, ins_velocity_std, progress, floor, offset)
+            airspeed_m_s, ins_velocity_std, progress, floor, offset, anchor)
+        if anchor is not None:
+            meta["anchor"] = str(anchor) if not hasattr(anchor, "columns") else "<table>"
     else:
         df, extra, seconds = _run_apf(
             heli, data, cutoff,
@@ -231,8 +240,35 @@ def _frame(t, mean, std, ins_velocity_std, extra_cols=None):
     return pd.DataFrame(cols)
 
 
+def _anchor_at(anchor, t: np.ndarray, ins_velocity_std: float):
+    """(mean, std) (n, 3) of a wind table's mean flow at times t (NaN outside it); the
+    INS velocity error, which the table's std carries, taken out again: the smoother reads
+    the same INS and adds it to its own output."""
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.record.flight_table import FlightTableError, load_flight_table
+
+    cols = [c for n in WIND_NAMES[:3] for c in (n, f"{n}_std")]
+    try:
+        df = anchor if hasattr(anchor, "columns") else load_flight_table(
+            anchor, ("t_s",), reads=cols).df
+    except FlightTableError as exc:
+        raise WindEstimationError(f"--anchor: {exc}") from None
+    missing = [c for c in ("t_s", *cols) if c not in df.columns]
+    if missing:
+        raise WindEstimationError(f"--anchor {anchor}: not a wind table (missing {missing})")
+    ta = np.asarray(df["t_s"], dtype=float)
+    if ta.size < 2 or not np.all(np.diff(ta) > 0):
+        raise WindEstimationError(f"--anchor {anchor}: t_s must increase over 2+ samples")
+    mean = np.column_stack([np.interp(t, ta, np.asarray(df[n], float), np.nan, np.nan)
+                            for n in WIND_NAMES[:3]])
+    std = np.column_stack([np.interp(t, ta, np.asarray(df[f"{n}_std"], float), np.nan,
+                                     np.nan) for n in WIND_NAMES[:3]])
+    std = np.sqrt(np.maximum(std**2 - ins_velocity_std**2, 1e-6))
+    return mean, std
+
+
 def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
-                  progress, noise_floor=None, offset_std=None):
+                  progress, noise_floor=None, offset_std=None, anchor=None):
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.prefilter import prefilter
     from airwake.estimate.smoother import ITERATIONS, WindSmoother
@@ -247,8 +283,11 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
     prior = WindPrior.from_physics(radius, AIRSPEED_M_S if airspeed_m_s is None
                                    else airspeed_m_s)
     passes = ITERATIONS if em_passes is None else int(em_passes)
+    if anchor is not None:
+        anchor = _anchor_at(anchor, pre.data.t, ins_velocity_std)
     try:
-        sm = WindSmoother(heli, pre, prior, iterations=passes, noise_floor=noise_floor)
+        sm = WindSmoother(heli, pre, prior, iterations=passes, noise_floor=noise_floor,
+                          anchor=anchor)
     except MODEL_FAILURES as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
@@ -279,6 +318,12 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
         forces[3:] = 0.0
         offset_part = sm.offset_std(forces)
         std = np.sqrt(std**2 + offset_part**2)
+    if anchor is not None:
+        # the posterior fuses the anchor with the model's own reading of the mean flow,
+        # which is what the anchor is there to replace (biased on an airframe the model
+        # does not fit): the model does not narrow the anchor's interval
+        std = std.copy()
+        std[:, :3] = np.fmax(std[:, :3], anchor[1])
     df = _frame(res.t, res.mean, std, ins_velocity_std)
     extra = {
         "front_end": {"cutoff_hz": pre.cutoff_hz, "rate_hz": pre.rate_hz,
