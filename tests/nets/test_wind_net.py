@@ -251,10 +251,19 @@ def test_a_still_air_wind_net_reads_the_mean_flow_with_no_wind_to_learn_from(
     card = json.loads(capsys.readouterr().out)
     assert card["wind_net_config"]["labels"] == "still_air"
     assert not any(f.startswith("vel_") for f in card["features"])  # the label is no input
+    assert card["air_velocity_envelope"]["flown_cells"] > 0  # the air velocities it held
     est = tmp_path / "wind.parquet"
     assert main(["wind", "estimate", str(ship), "--method", "net", "--net", str(net),
                  "--score", "--out", str(est), "--json"]) == 0
-    comp = json.loads(capsys.readouterr().out)["score"]["components"]
+    report = json.loads(capsys.readouterr().out)
+    comp = report["score"]["components"]
+    # how much of the ship flight's air velocity the 60 s still-air flight held: little
+    # (the ship's ~3 m/s of relative wind is flown there for moments only), while its own
+    # flight lies inside it; the report says so
+    assert report["training_envelope_inside"] < 0.5
+    assert main(["wind", "estimate", str(plain), "--method", "net", "--net", str(net),
+                 "--out", str(tmp_path / "own.parquet"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["training_envelope_inside"] > 0.9
     truth = pd.read_parquet(ship)
     # the relative wind along the ship (~1 m/s on body x here) is what it reads; v_y and
     # v_z (0.2-0.5 m/s of truth) carry biases of ~0.1-0.3 (docs/networks.md)

@@ -73,6 +73,7 @@ def _handle(args: argparse.Namespace) -> int:
         report.update(net=args.net, training_flights=est.metadata["net_training_flights"])
         report["held_out"] = not _trained_on(args.flight, report["training_flights"])
         report["std_is"] = est.metadata["std_is"]
+        report["training_envelope_inside"] = est.metadata["training_envelope_inside"]
         if args.interval_model is not None:
             report.update(interval_model=est.metadata["interval_model"],
                           interval_fast_std_median_m_s=est.metadata[
@@ -104,6 +105,12 @@ def _handle(args: argparse.Namespace) -> int:
                 line += (" - this flight trained the net: a score here is not a held-out "
                          "one")
             line += f"\nstd: {est.metadata['std_is']}"
+            inside = report["training_envelope_inside"]
+            if inside is not None:
+                line += (f"\nair velocity inside the net's training flights: {100 * inside:.0f} "
+                         "% of samples (joint cells of 0.25 m/s flown for 0.2 s or more)"
+                         + ("" if inside >= 0.8 else " - outside them the net extrapolates: "
+                            "fly still-air legs at these air velocities (docs/networks.md)"))
         elif args.method == "apf":
             line += (f", mean ESS {report['mean_ess']:.0f}, resampled "
                      f"{100 * report['resampled_fraction']:.0f} % of samples, skipped "

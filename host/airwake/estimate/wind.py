@@ -399,7 +399,7 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
 
     from airwake.estimate.errors import WindEstimationError
     from airwake.nets.model import NetFileError, load_net
-    from airwake.nets.wind_net import predict_wind
+    from airwake.nets.wind_net import envelope_share, predict_wind
     from airwake.record.flight_table import FlightTableError, flight_fingerprint
 
     path = str(net) if isinstance(net, str | Path) else "<net>"
@@ -407,6 +407,7 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
     try:
         loaded = load_net(net) if isinstance(net, str | Path) else net
         est = predict_wind(loaded, ft)
+        inside = envelope_share(loaded, ft, est)
     except (NetFileError, FlightTableError) as exc:
         raise WindEstimationError(f"{path}: {exc}") from None
     seconds = time.perf_counter() - t0
@@ -434,6 +435,9 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
                       if (card.get("wind_net_config") or {}).get("labels") == "still_air"
                       else "")),
         "not_estimated": [n for n, no in zip(WIND_NAMES, none, strict=True) if no],
+        # the share of samples whose air velocity the training flights held (nets.
+        # air_envelope); None for a net trained before the card kept its envelope
+        "training_envelope_inside": inside,
         "frame": "body axes at the main-rotor hub (eq 5.3)",
         "ins_velocity_std_m_s": float(ins_velocity_std),
         "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),

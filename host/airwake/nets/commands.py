@@ -256,6 +256,17 @@ _NOT_WIND = {"trainer": "adamw", "line_window_s": None, "rate_lag": None, "rate_
              "to_s": None, "time_stretch": None, "split": "chronological"}
 
 
+
+def _printable(card: dict) -> dict:
+    """The card as printed: the training air-velocity envelope's cells counted, not
+    listed (a thousand of them; the .pt keeps them)."""
+    env = card.get("air_velocity_envelope")
+    if env is None:
+        return card
+    return {**card, "air_velocity_envelope": {**{k: v for k, v in env.items()
+                                                 if k != "cells"},
+                                              "flown_cells": len(env["cells"])}}
+
 def _train_wind(args: argparse.Namespace, out, hidden) -> int:
     """`nets train --target wind`: nets.wind_net on simulated flights' truth, or on
     still-air flights' INS velocity (--still-air)."""
@@ -280,7 +291,7 @@ def _train_wind(args: argparse.Namespace, out, hidden) -> int:
         raise NetFileError(f"nets train: {exc}") from None
     save_net(net, out)
     if args.json:
-        print(json.dumps(net.card, indent=2, sort_keys=True))
+        print(json.dumps(_printable(net.card), indent=2, sort_keys=True))
         return 0
     card = net.card
     print(f"wind net (adamw, seed {args.seed}): {len(args.flights)} flight(s), "

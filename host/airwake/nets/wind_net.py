@@ -41,6 +41,7 @@ import numpy as np
 import pandas as pd
 import torch
 
+from airwake.nets.air_envelope import air_envelope, inside_share
 from airwake.nets.features import FeatureConfig, build_features, gaussian_lowpass, gaussian_smooth
 from airwake.nets.model import PilotNet, fit_arx
 from airwake.nets.split import TEST, TRAIN, VAL, SplitConfig, split_labels
@@ -187,15 +188,18 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
     fcfg = FeatureConfig(rate_lag_samples=0)
     t0 = time.perf_counter()
     rng = np.random.default_rng(seed)
-    xs, ys, labels, flights, names, rates = [], [], [], [], None, []
+    xs, ys, labels, flights, names, rates, airs = [], [], [], [], None, [], []
     for table in map(_loaded, tables):
         t, x, names, rate_hz, truth = wind_features(table, fcfg, config)
         if config.labels == "still_air":
             truth = still_air_labels(table, t, truth)
+            airs.append(truth[:, :3])  # the air velocity is the label
         elif truth is None:
             raise FlightTableError(f"{_df(table)[1]}: no truth_wind_* columns: a wind net "
                                    "trains on simulated flights (or on still-air flights "
                                    "with --still-air)")
+        else:
+            airs.append(body_velocity(table, t) - truth[:, :3])
         lab = split_labels(t, split, history_s(fcfg, config, rate_hz), rng)
         lab = np.where(lab == TEST, TRAIN, lab)  # other flights are the test set
         xs.append(x)
@@ -236,8 +240,22 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
                 "trainer_settings": asdict(cfg), "training": info, "seed": int(seed),
                 "training_flights": flights, "training_rows": int(tr.size),
                 "validation_rms": rms, "train_seconds": round(time.perf_counter() - t0, 3),
+                "air_velocity_envelope": air_envelope(np.concatenate(airs),
+                                                      float(np.mean(rates))),
                 "versions": versions()}
     return net
+
+
+def envelope_share(net: PilotNet, table, est: pd.DataFrame) -> float | None:
+    """The share of the estimate's samples whose air velocity (the INS body velocity less
+    the estimated mean flow) lies inside the net's training flights' (`air_envelope`);
+    None for a net whose card has no envelope (trained before it was kept)."""
+    env = net.card.get("air_velocity_envelope")
+    if env is None:
+        return None
+    t = est["t_s"].to_numpy(float)
+    air = body_velocity(table, t) - est[list(WIND_OUTPUTS[:3])].to_numpy(float)
+    return inside_share(env, air)
 
 
 def predict_wind(net: PilotNet, table, smooth_s: float | None = None) -> pd.DataFrame:
