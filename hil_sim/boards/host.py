@@ -8,8 +8,8 @@ clock), and gives the runner what lockstep needs without touching the daemon's c
   mid-flight: `SilRun` starts it with `--track`). A pty hands written bytes to the
   reader's line discipline asynchronously, so an empty input queue is no proof;
 - `wait_idle()`: it is asleep again in its event loop (state S in epoll/select/poll or
-  its poll-period nanosleep, /proc/PID/wchan): its pass over those bytes, and whatever
-  it wrote in reply, is complete;
+  its poll-period nanosleep, /proc/PID/wchan, or /proc/PID/syscall where wchan is
+  hidden): its pass over those bytes, and whatever it wrote in reply, is complete;
 - `cpu_s()`, `check()`, `tail()` (the end of its log), `stop()` (SIGINT), `kill()`.
 """
 
@@ -25,6 +25,15 @@ from airwake.errors import AirwakeError
 
 _TICK = os.sysconf("SC_CLK_TCK")
 _IDLE_WAITS = ("epoll", "select", "poll", "nanosleep")
+# the same waits by syscall number (/proc/PID/syscall's first field), for kernels that
+# hide wchan: a thread in state S may also wait for the GIL or a lock (futex), mid-pass
+_IDLE_SYSCALLS = {
+    "x86_64": {7, 23, 35, 230, 232, 270, 271, 281, 441},  # poll select nanosleep
+    # clock_nanosleep epoll_wait pselect6 ppoll epoll_pwait epoll_pwait2
+    "aarch64": {22, 72, 73, 101, 115, 441},  # epoll_pwait pselect6 ppoll nanosleep
+    # clock_nanosleep epoll_pwait2
+}.get(os.uname().machine)
+LOST_SETTLE_S = 0.05  # an empty queue this long after a port was lost: its bytes are gone
 
 
 class SilError(AirwakeError):
@@ -63,9 +72,11 @@ def _rchar(io: bytes | None) -> int | None:
         return None
 
 
-def _asleep(stat: bytes | None, wchan: ProcFile) -> bool:
+def _asleep(stat: bytes | None, wchan: ProcFile, syscall: ProcFile | None = None) -> bool:
     """The process sleeps in its event loop (or has exited). Where the kernel hides the
-    wait channel (wchan reads "0"), any interruptible sleep counts."""
+    wait channel (wchan reads "0"), the syscall it sleeps in decides (/proc/PID/syscall:
+    a Python thread waiting for the GIL sleeps in futex, state S, mid-pass); where that
+    is hidden too, any interruptible sleep counts."""
     if stat is None:
         return True
     try:
@@ -78,7 +89,18 @@ def _asleep(stat: bytes | None, wchan: ProcFile) -> bool:
     if w is None:
         return True
     text = w.decode(errors="replace").strip()
-    return text in ("", "0") or any(k in text for k in _IDLE_WAITS)
+    if text not in ("", "0"):
+        return any(k in text for k in _IDLE_WAITS)
+    call = syscall.read() if syscall is not None and _IDLE_SYSCALLS else None
+    if not call:
+        return True
+    first = call.split()[0]
+    if first == b"running":
+        return False
+    try:
+        return int(first) in _IDLE_SYSCALLS
+    except ValueError:
+        return True
 
 
 def cpu_seconds(pid: int) -> float | None:
@@ -111,6 +133,7 @@ class HostDaemon:
         self._io = ProcFile(f"/proc/{self.pid}/io")
         self._stat = ProcFile(f"/proc/{self.pid}/stat")
         self._wchan = ProcFile(f"/proc/{self.pid}/wchan")
+        self._syscall = ProcFile(f"/proc/{self.pid}/syscall")
 
     @property
     def alive(self) -> bool:
@@ -142,15 +165,18 @@ class HostDaemon:
         return _rchar(self._io.read())
 
     def asleep(self) -> bool:
-        return _asleep(self._stat.read(), self._wchan)
+        return _asleep(self._stat.read(), self._wchan, self._syscall)
 
     def cpu_s(self) -> float | None:
         return cpu_seconds(self.pid)
 
-    def wait_read(self, target: int, queues_empty) -> int:
+    def wait_read(self, target: int, queues_empty, settle_s: float = LOST_SETTLE_S) -> int:
         """Wait (wall time) until the daemon has read `target` bytes in all; returns 0,
-        or the shortfall when nothing was queued for it for 50 ms (`queues_empty()`:
-        bytes a lost port discarded never get read — the caller re-bases)."""
+        or the shortfall when nothing was queued for it for `settle_s` (`queues_empty()`:
+        bytes a lost port discarded never get read — the caller re-bases). A pty hands
+        written bytes to the reader's queue asynchronously (a kernel worker), so on a
+        loaded machine an empty queue can hide bytes still on their way for tens of ms:
+        the caller gives `settle_s` short only where a port was lost."""
         got = self.read_chars()
         if got is not None and got >= target:
             return 0
@@ -169,7 +195,7 @@ class HostDaemon:
                 empty_since = None
             elif empty_since is None:
                 empty_since = now
-            elif now - empty_since > 0.05 and got is not None:
+            elif now - empty_since > settle_s and got is not None:
                 return target - got
             if now > end:
                 raise SilError(f"the daemon has not read its ports for "
@@ -212,7 +238,7 @@ class HostDaemon:
         return t
 
     def _close_proc_files(self) -> None:
-        for f in (self._io, self._stat, self._wchan):
+        for f in (self._io, self._stat, self._wchan, self._syscall):
             f.close()
 
     def close(self) -> None:

@@ -49,7 +49,7 @@ import numpy as np
 
 from hil_sim.boards.channel import REPO_ROOT, ChannelError, NativeBoard, executable
 from hil_sim.boards.feeds import BoardFeeds
-from hil_sim.boards.host import HostDaemon, SilError, cpu_seconds
+from hil_sim.boards.host import LOST_SETTLE_S, HostDaemon, SilError, cpu_seconds
 from hil_sim.boards.links import BASE_FORWARD_MAX, Impairment, PtyPort
 from hil_sim.boards.rig import SilRig, rig_for, survey_rig
 from hil_sim.boards.simclock import SimClock
@@ -59,6 +59,7 @@ TRUTH_TABLE = "truth.parquet"  # REC/sil/: the truth world's table, for scoring 
 ORDER = ("marker", "losa", "rover", "base")  # marker first: its LEDs light the LOSA's step
 SIL_SEED_KEY = 0x5117  # spawn-key namespace of the SIL layer's random streams
 DAEMON_START_TIMEOUT_S = 60.0
+UNLOST_SETTLE_S = 2.0  # wall s of an empty queue before bytes count as lost, no port lost
 PORT_OPEN_TIMEOUT_S = 30.0
 DRAIN_TIMEOUT_S = 10.0
 WRITE_STALL_TIMEOUT_S = 20.0
@@ -465,9 +466,13 @@ class SilRun:
         t_start = time.monotonic()
         target = self._rchar0 + sum(p.bytes_written for p in self.ptys.values())
         plugged = [p for p in self.ptys.values() if p.plugged]
+        # bytes can be lost only where a port was: elsewhere an empty queue is bytes on
+        # their way (seconds of slack on a loaded machine, not 50 ms)
+        lost = any(not p.plugged or p.replugs > 1 for p in self.ptys.values())
         # bytes a lost port discarded are never read: re-base on the shortfall
-        self._rchar0 -= self.daemon.wait_read(target, lambda: not any(p.unread()
-                                                                      for p in plugged))
+        self._rchar0 -= self.daemon.wait_read(
+            target, lambda: not any(p.unread() for p in plugged),
+            LOST_SETTLE_S if lost else UNLOST_SETTLE_S)
         self.daemon.wait_idle()
         self.timing["host_wait_s"] = self.timing.get("host_wait_s", 0.0) + (
             time.monotonic() - t_start)

@@ -1,0 +1,83 @@
+"""The SIL's lockstep asks whether the daemon sleeps in its event loop
+(`hil_sim.boards.host._asleep`): a thread waiting for the GIL sleeps too (state S, in
+futex) and is mid-pass, which the wait channel tells where the kernel shows it and the
+syscall where it hides it."""
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from hil_sim.boards.host import _IDLE_SYSCALLS, ProcFile, _asleep
+
+
+class _Fixed:
+    def __init__(self, data):
+        self.data = data
+
+    def read(self):
+        return self.data
+
+
+def _stat(state: str) -> bytes:
+    return f"123 (python3 (x)) {state} 1 2 3".encode()
+
+
+@pytest.mark.skipif(not _IDLE_SYSCALLS, reason="no syscall table for this machine")
+def test_the_syscall_decides_where_the_wait_channel_is_hidden():
+    idle = next(iter(_IDLE_SYSCALLS))
+    hidden = _Fixed(b"0")
+    assert _asleep(_stat("S"), hidden, _Fixed(f"{idle} 0x3 0x0".encode()))
+    assert not _asleep(_stat("S"), hidden, _Fixed(b"202 0x7f 0x80"))  # futex: the GIL
+    assert not _asleep(_stat("S"), hidden, _Fixed(b"running"))
+    assert _asleep(_stat("S"), hidden, _Fixed(None))  # unreadable: any sleep counts
+    assert _asleep(_stat("S"), hidden, None)
+    # a visible wait channel decides by itself
+    assert _asleep(_stat("S"), _Fixed(b"ep_poll"), _Fixed(b"202 0x0"))
+    assert not _asleep(_stat("S"), _Fixed(b"futex_wait_queue"), _Fixed(f"{idle}".encode()))
+    assert not _asleep(_stat("R"), hidden, _Fixed(f"{idle}".encode()))
+    assert _asleep(_stat("Z"), hidden, None) and _asleep(None, hidden, None)
+
+
+_GIL = """
+import threading, time
+def spin():
+    x = 0
+    while True:
+        x += 1
+threading.Thread(target=spin, daemon=True).start()
+t0 = time.monotonic()
+while time.monotonic() - t0 < 3:
+    pass
+"""
+_LOOP = """
+import os, selectors
+r, w = os.pipe()
+s = selectors.DefaultSelector()
+s.register(r, selectors.EVENT_READ)
+s.select(3)
+"""
+
+
+@pytest.mark.skipif(not _IDLE_SYSCALLS or not Path("/proc/self/syscall").exists(),
+                    reason="no /proc/PID/syscall or no syscall table here")
+def test_a_real_process_waiting_for_the_gil_is_busy_one_in_its_selector_asleep():
+    def sample(code):
+        p = subprocess.Popen([sys.executable, "-c", code])
+        try:
+            time.sleep(0.5)
+            files = [ProcFile(f"/proc/{p.pid}/{n}") for n in ("stat", "wchan", "syscall")]
+            if files[2].read() is None:
+                pytest.skip("/proc/PID/syscall is not readable here")
+            seen = [_asleep(files[0].read(), files[1], files[2]) for _ in range(300)]
+            for f in files:
+                f.close()
+            return seen
+        finally:
+            p.kill()
+            p.wait()
+
+    assert not any(sample(_GIL))
+    assert all(sample(_LOOP))
