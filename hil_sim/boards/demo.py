@@ -34,7 +34,7 @@ own effect model instead, full-state pilot: "our own model", for comparison only
    `airwake wind estimate --method net` reads the ship flight's mean flow as the INS
    velocity less it (docs/networks.md "Still-air labels"), its interval widened by the
    model's smoother where the net does not follow the wind (`--interval-model`); scored
-   beside the smoother.
+   beside the smoother, with the rotation of the smoother anchored on it (`--anchor`).
 7. report/index.html: the map first, then the estimate's accuracy (bias, scatter, interval
    coverage against the truth), the still-air net's beside it, then the model section.
 
@@ -190,7 +190,8 @@ def _demo(argv: list[str] | None) -> int:
                          "0", "--json", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(model), "--windows",
                          "0", "--wind", str(wind), "--json", capture=True)
-    net_est = still_air_net_step(out, still, scored, truth, args.cruise_s, model)
+    net_est, anchored = still_air_net_step(out, still, scored, truth, args.cruise_s, model)
+    net_est["anchored"] = anchored
     diag = _finish(diag_job)
     for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
                        ("diagnose_still_air", diag), ("wind_estimate", est),
@@ -208,18 +209,24 @@ def _demo(argv: list[str] | None) -> int:
 
 
 def still_air_net_step(out: Path, still: Path, flight: Path, truth: list[str],
-                       cruise_s: float, model: Path) -> dict:
+                       cruise_s: float, model: Path) -> tuple[dict, dict]:
     """The mean flow with no model (module doc, step 6): the cruise flight, the still-air
     wind net trained on it and the calibration flight, its estimate on `flight` scored,
-    its interval widened by `model`'s smoother where it does not follow the wind."""
+    its interval widened by `model`'s smoother where it does not follow the wind; and
+    `model`'s smoother anchored on that mean flow (the rotation given it), scored."""
     cruise, net = out / "cruise.parquet", out / "still_air_net.pt"
     _airwake("sim", "table", "--scenario", "still_air_cruise", *truth, "--duration",
              f"{cruise_s:g}", "--quiet", "--out", str(cruise))
     _airwake("nets", "train", str(still), str(cruise), "--target", "wind", "--still-air",
              "--quiet", "--out", str(net))
-    return _airwake("wind", "estimate", str(flight), "--method", "net", "--net", str(net),
-                    "--interval-model", str(model), "--score", "--json", "--out",
-                    str(out / "wind_still_air_net.parquet"), capture=True)
+    mean_flow = out / "wind_still_air_net.parquet"
+    net_est = _airwake("wind", "estimate", str(flight), "--method", "net", "--net", str(net),
+                       "--interval-model", str(model), "--score", "--json", "--out",
+                       str(mean_flow), capture=True)
+    anchored = _airwake("wind", "estimate", str(flight), "--model", str(model), "--anchor",
+                        str(mean_flow), "--score", "--json", "--out",
+                        str(out / "wind_anchored.parquet"), capture=True)
+    return net_est, anchored
 
 
 def truth_arguments(truth: str) -> list[str]:
@@ -323,11 +330,17 @@ def _candidates(diag: dict, k: int = 3) -> str:
 
 def net_rows(net_est: dict, est: dict) -> list:
     """The still-air net's score per estimated component (its rotation is not: NaN) beside
-    the smoother's bias."""
+    the smoother's bias; then the rotation of the smoother anchored on that mean flow
+    (`net_est["anchored"]`, when there)."""
     comp, smoother = net_est["score"]["components"], est["score"]["components"]
-    return [(n, f"{c['error_mean']:+.3f}", f"{c['error_std']:.3f}",
+    rows = [(n, f"{c['error_mean']:+.3f}", f"{c['error_std']:.3f}",
              f"{100 * c['coverage_90']:.0f} %", f"{smoother[n]['error_mean']:+.3f}")
             for n, c in comp.items() if math.isfinite(c["error_mean"])]
+    anchored = (net_est.get("anchored") or {}).get("score", {}).get("components", {})
+    rows += [(f"{n} (the model, given it)", f"{c['error_mean']:+.3f}", f"{c['error_std']:.3f}",
+              f"{100 * c['coverage_90']:.0f} %", f"{smoother[n]['error_mean']:+.3f}")
+             for n, c in anchored.items() if n.endswith("_rad_s")]
+    return rows
 
 
 def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
@@ -407,7 +420,9 @@ args.truth == "blade_element" else "the host's own effect model: our own model"}
 <h2>The mean flow with no model: a still-air wind net</h2>
 <p>Trained on the calibration flight and {args.cruise_s:g} s of still-air cruise legs with
 the INS velocity as its label (no model, no truth); the mean flow is the INS velocity less
-the net's air velocity. The rotation it does not estimate.</p>
+the net's air velocity. The rotation it does not estimate: its rows are the model's
+smoother anchored on this mean flow (<b>airwake wind estimate --anchor</b>), which reads
+the rotation given it instead of trading it against a biased mean flow.</p>
 <table><tr><th>component</th><th>error mean</th><th>error std</th>
 <th>90 % interval holds the truth</th><th>the smoother's error mean</th></tr>
 {_rows(net_rows(net_est, est))}</table>

@@ -80,7 +80,14 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert "above 0.1 Hz" in net["std_is"]
     assert all(v > 0 for v in net["interval_fast_std_median_m_s"].values())
     rows = net_rows(net, json.loads((out / "wind_estimate.json").read_text()))
-    assert [r[0] for r in rows] == ["wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"]
+    assert [r[0] for r in rows] == ["wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"] + [
+        f"{n} (the model, given it)" for n in ("wind_wx_rad_s", "wind_wy_rad_s",
+                                                "wind_wz_rad_s")]
+    # the rotation given the net's mean flow: the smoother anchored on the net's table
+    anchored = net["anchored"]
+    assert anchored["method"] == "smoother" and "crlb" not in anchored["score"]
+    assert anchored["anchor"] == str(out / "wind_still_air_net.parquet")
+    assert (out / "wind_anchored.parquet").is_file()
     assert "a still-air wind net" in html
     for row in rows:
         assert "".join(f"<td>{html_escape(c)}</td>" for c in row) in html

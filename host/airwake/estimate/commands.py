@@ -83,7 +83,8 @@ def _handle(args: argparse.Namespace) -> int:
                       resampled_fraction=float(est.df["resampled"].mean()),
                       skipped_samples=int(est.df["skipped"].sum()))
     else:
-        report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"])
+        report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"],
+                      anchor=est.metadata.get("anchor"))
     report["calibration_envelope"] = est.metadata.get("calibration_envelope")
     report["ins_velocity_std_m_s"] = est.metadata["ins_velocity_std_m_s"]
     report["ins_velocity_std_source"] = est.metadata["ins_velocity_std_source"]
