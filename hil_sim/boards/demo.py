@@ -35,6 +35,7 @@ own effect model instead, full-state pilot: "our own model", for comparison only
    velocity less it (docs/networks.md "Still-air labels"), its interval widened by the
    model's smoother where the net does not follow the wind (`--interval-model`); scored
    beside the smoother, with the rotation of the smoother anchored on it (`--anchor`).
+   (The cruise flight and the training need no model: they run beside step 0.)
 7. report/index.html: the map first, then the estimate's accuracy (bias, scatter, interval
    coverage against the truth), the still-air net's beside it, then the model section.
 
@@ -169,8 +170,12 @@ def _demo(argv: list[str] | None) -> int:
                  f"{args.duration:g}", "--stepped", "--out", str(rec), log=out / "sim_run.log")
     _airwake("sim", "table", "--scenario", "still_air_calibration", *truth, *cal, "--out",
              str(still))
+    # the still-air net (step 6) needs no model: its cruise flight and its training run
+    # beside the calibration (one core each: the ship flight ends in its first seconds)
+    net_job = still_air_net_start(out, still, truth, args.cruise_s)
     calib = _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
                      "--max-windows", CALIBRATION_WINDOWS, "--json", "--progress", capture=True)
+    net_job = still_air_net_train(out, still, net_job)
     step = discrepancy_step(still, base, out / "model.toml")
     model = step["model"]
     _finish(sil)
@@ -190,7 +195,7 @@ def _demo(argv: list[str] | None) -> int:
                          "0", "--json", capture=True)
     with_wind = _airwake("model", "compare", str(scored), "--model", str(model), "--windows",
                          "0", "--wind", str(wind), "--json", capture=True)
-    net_est, anchored = still_air_net_step(out, still, scored, truth, args.cruise_s, model)
+    net_est, anchored = still_air_net_step(out, scored, model, net_job)
     net_est["anchored"] = anchored
     diag = _finish(diag_job)
     for name, data in (("compare_still_air", still_air), ("compare_with_wind", with_wind),
@@ -208,17 +213,29 @@ def _demo(argv: list[str] | None) -> int:
     return 0
 
 
-def still_air_net_step(out: Path, still: Path, flight: Path, truth: list[str],
-                       cruise_s: float, model: Path) -> tuple[dict, dict]:
-    """The mean flow with no model (module doc, step 6): the cruise flight, the still-air
-    wind net trained on it and the calibration flight, its estimate on `flight` scored,
-    its interval widened by `model`'s smoother where it does not follow the wind; and
-    `model`'s smoother anchored on that mean flow (the rotation given it), scored."""
-    cruise, net = out / "cruise.parquet", out / "still_air_net.pt"
-    _airwake("sim", "table", "--scenario", "still_air_cruise", *truth, "--duration",
-             f"{cruise_s:g}", "--quiet", "--out", str(cruise))
-    _airwake("nets", "train", str(still), str(cruise), "--target", "wind", "--still-air",
-             "--quiet", "--out", str(net))
+def still_air_net_start(out: Path, still: Path, truth: list[str], cruise_s: float):
+    """Step 6's flight, in the background: the still-air cruise legs."""
+    return _start("sim", "table", "--scenario", "still_air_cruise", *truth, "--duration",
+                  f"{cruise_s:g}", "--quiet", "--out", str(out / "cruise.parquet"),
+                  log=out / "cruise.log")
+
+
+def still_air_net_train(out: Path, still: Path, cruise_job):
+    """Once the cruise flight is there: the still-air wind net on it and the calibration
+    flight, in the background."""
+    _finish(cruise_job)
+    return _start("nets", "train", str(still), str(out / "cruise.parquet"), "--target",
+                  "wind", "--still-air", "--quiet", "--out", str(out / "still_air_net.pt"),
+                  log=out / "nets_train.log")
+
+
+def still_air_net_step(out: Path, flight: Path, model: Path, train_job) -> tuple[dict, dict]:
+    """The mean flow with no model (module doc, step 6): once the still-air net is
+    trained, its estimate on `flight` scored, its interval widened by `model`'s smoother
+    where it does not follow the wind; and `model`'s smoother anchored on that mean flow
+    (the rotation given it), scored."""
+    _finish(train_job)
+    net = out / "still_air_net.pt"
     mean_flow = out / "wind_still_air_net.parquet"
     net_est = _airwake("wind", "estimate", str(flight), "--method", "net", "--net", str(net),
                        "--interval-model", str(model), "--score", "--json", "--out",
