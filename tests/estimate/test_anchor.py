@@ -64,14 +64,23 @@ def test_a_loose_anchor_changes_little_and_a_missing_one_nothing(tiny_wind_file,
 
 def test_the_cli_anchors_on_a_wind_table_and_says_what_it_cannot(tiny_wind_file, free,
                                                                  tmp_path, capsys):
+    import warnings
+
     t = free.df["t_s"].to_numpy()
     anchor = tmp_path / "net.parquet"
-    write_flight_table(_anchor_table(t, CONSTANT_WIND[:3], 0.05), anchor, {})
+    table = _anchor_table(t, CONSTANT_WIND[:3], 0.05)
+    for n in WIND_NAMES[3:]:  # a still-air net's table: no rotation
+        table[n] = table[f"{n}_std"] = np.nan
+    write_flight_table(table, anchor, {})
     out = tmp_path / "w.parquet"
-    assert main(["wind", "estimate", str(tiny_wind_file), "--anchor", str(anchor),
-                 "--em-passes", "2", "--out", str(out), "--json"]) == 0
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert main(["wind", "estimate", str(tiny_wind_file), "--anchor", str(anchor),
+                     "--em-passes", "2", "--out", str(out), "--json"]) == 0
+    assert not [w for w in caught if "_rad_s" in str(w.message)], caught  # not read
     report = json.loads(capsys.readouterr().out)
     assert report["method"] == "smoother" and out.is_file()
+    assert report["anchor"] == str(anchor) and "crlb" not in report
     # not a wind table, the wrong method: named, nothing written
     bad = tmp_path / "bad.parquet"
     write_flight_table(pd.DataFrame({"t_s": t, "x": t}), bad, {})

@@ -122,6 +122,11 @@ def _handle(args: argparse.Namespace) -> int:
                 f"{v:.3g}" for v in pr["sigma"]) + " (m/s x3, 1/s x3), correlation time "
                 + " ".join(f"{v:.2g}" for v in pr["tau_s"]) + " s; channel noise "
                 + " ".join(f"{v:.2g}" for v in report["noise_std"]))
+            if report["anchor"]:
+                line += (f"\nmean flow anchored on {report['anchor']}: the rotation is read "
+                         "given it, its interval no narrower than the anchor's (no "
+                         "Cramer-Rao bound: the anchor is information the model's bound has "
+                         "not)")
         print(line)
         print(_ins_line(est.metadata))
         env = est.metadata.get("calibration_envelope")

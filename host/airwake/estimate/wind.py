@@ -244,15 +244,23 @@ def _anchor_at(anchor, t: np.ndarray, ins_velocity_std: float):
     """(mean, std) (n, 3) of a wind table's mean flow at times t (NaN outside it); the
     INS velocity error, which the table's std carries, taken out again: the smoother reads
     the same INS and adds it to its own output."""
+    import warnings
+
     from airwake.estimate.errors import WindEstimationError
     from airwake.record.flight_table import FlightTableError, load_flight_table
 
     cols = [c for n in WIND_NAMES[:3] for c in (n, f"{n}_std")]
     try:
-        df = anchor if hasattr(anchor, "columns") else load_flight_table(
-            anchor, ("t_s",), reads=cols).df
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            df = anchor if hasattr(anchor, "columns") else load_flight_table(
+                anchor, ("t_s",), reads=cols).df
     except FlightTableError as exc:
         raise WindEstimationError(f"--anchor: {exc}") from None
+    for w in caught:  # the columns the anchor is read for; not its rotation (a still-air
+        # net's is NaN throughout)
+        if any(f"'{c}'" in str(w.message) for c in cols):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     missing = [c for c in ("t_s", *cols) if c not in df.columns]
     if missing:
         raise WindEstimationError(f"--anchor {anchor}: not a wind table (missing {missing})")
