@@ -172,7 +172,7 @@ def _demo(argv: list[str] | None) -> int:
              str(still))
     # the still-air net (step 6) needs no model: its cruise flight and its training run
     # beside the calibration (one core each: the ship flight ends in its first seconds)
-    net_job = still_air_net_start(out, still, truth, args.cruise_s)
+    net_job = still_air_net_start(out, truth, args.cruise_s)
     calib = _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
                      "--max-windows", CALIBRATION_WINDOWS, "--json", "--progress", capture=True)
     net_job = still_air_net_train(out, still, net_job)
@@ -213,7 +213,7 @@ def _demo(argv: list[str] | None) -> int:
     return 0
 
 
-def still_air_net_start(out: Path, still: Path, truth: list[str], cruise_s: float):
+def still_air_net_start(out: Path, truth: list[str], cruise_s: float):
     """Step 6's flight, in the background: the still-air cruise legs."""
     return _start("sim", "table", "--scenario", "still_air_cruise", *truth, "--duration",
                   f"{cruise_s:g}", "--quiet", "--out", str(out / "cruise.parquet"),

@@ -174,6 +174,7 @@ class SilRun:
         self._cpu_self0 = 0.0
         self._cpu_daemon0 = 0.0
         self._rchar0 = 0
+        self._ports_seen: tuple = ()  # (plugged, replugs) per port at the last lockstep wait
         self._cpu_boards0: dict[str, float] = {}
         self.daemon_cpu_s: float | None = None
 
@@ -225,6 +226,7 @@ class SilRun:
         self._cpu_daemon0 = self.daemon.cpu_s() or 0.0
         self._rchar0 = (self.daemon.read_chars() or 0) - sum(p.bytes_written
                                                              for p in self.ptys.values())
+        self._ports_seen = tuple((p.plugged, p.replugs) for p in self.ptys.values())
         self._cpu_boards0 = {n: cpu_seconds(b.process.pid) or 0.0
                              for n, b in self.boards.items()}
 
@@ -466,9 +468,11 @@ class SilRun:
         t_start = time.monotonic()
         target = self._rchar0 + sum(p.bytes_written for p in self.ptys.values())
         plugged = [p for p in self.ptys.values() if p.plugged]
-        # bytes can be lost only where a port was: elsewhere an empty queue is bytes on
-        # their way (seconds of slack on a loaded machine, not 50 ms)
-        lost = any(not p.plugged or p.replugs > 1 for p in self.ptys.values())
+        # bytes can be lost only where a port was lost since the last wait: elsewhere an
+        # empty queue is bytes on their way (seconds of slack on a loaded machine, not 50 ms)
+        ports = tuple((p.plugged, p.replugs) for p in self.ptys.values())
+        lost = ports != self._ports_seen
+        self._ports_seen = ports
         # bytes a lost port discarded are never read: re-base on the shortfall
         self._rchar0 -= self.daemon.wait_read(
             target, lambda: not any(p.unread() for p in plugged),

@@ -92,3 +92,22 @@ def test_the_cli_anchors_on_a_wind_table_and_says_what_it_cannot(tiny_wind_file,
                  "--method", "apf", "--out", str(out2)]) == 2
     assert "--anchor is for --method smoother" in capsys.readouterr().err
     assert not out2.exists()
+
+
+def test_an_anchor_file_with_a_dropout_is_read_and_its_own_ins_error_taken_out(
+        tiny_wind_file, free, tmp_path):
+    # a real net's table can have NaN stretches (no anchor there); its std carries the INS
+    # error of the flight it was made on (its metadata), which the smoother adds itself
+    t = free.df["t_s"].to_numpy()
+    table = _anchor_table(t, CONSTANT_WIND[:3], 0.05)
+    table.loc[5:10, list(V)] = np.nan
+    path = tmp_path / "dropout.parquet"
+    write_flight_table(table, path, {"ins_velocity_std_m_s": 0.03})
+    est = estimate_wind(tiny_wind_file, "table52", em_passes=2, ins_velocity_std=0.0,
+                        anchor=path)
+    std = est.df[[f"{n}_std" for n in V]].to_numpy()
+    assert np.isfinite(est.df[list(WIND_NAMES)].to_numpy()).all()
+    # the floor is the anchor's std less its own INS error: sqrt(0.05^2 - 0.03^2) = 0.04
+    assert std.min() == pytest.approx(0.04, abs=1e-6)
+    # and the rotation's interval carries the anchor's error as a steady offset
+    assert est.metadata["anchor_offset_std"] == pytest.approx([0.04] * 3)

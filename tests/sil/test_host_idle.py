@@ -3,6 +3,7 @@
 futex) and is mid-pass, which the wait channel tells where the kernel shows it and the
 syscall where it hides it."""
 
+import os
 import subprocess
 import sys
 import time
@@ -30,7 +31,8 @@ def test_the_syscall_decides_where_the_wait_channel_is_hidden():
     idle = next(iter(_IDLE_SYSCALLS))
     hidden = _Fixed(b"0")
     assert _asleep(_stat("S"), hidden, _Fixed(f"{idle} 0x3 0x0".encode()))
-    assert not _asleep(_stat("S"), hidden, _Fixed(b"202 0x7f 0x80"))  # futex: the GIL
+    busy = {"aarch64": 98}.get(os.uname().machine, 202)  # futex (202 on x86_64)
+    assert not _asleep(_stat("S"), hidden, _Fixed(f"{busy} 0x7f 0x80".encode()))  # the GIL
     assert not _asleep(_stat("S"), hidden, _Fixed(b"running"))
     assert _asleep(_stat("S"), hidden, _Fixed(None))  # unreadable: any sleep counts
     assert _asleep(_stat("S"), hidden, None)
@@ -48,8 +50,9 @@ def spin():
     while True:
         x += 1
 threading.Thread(target=spin, daemon=True).start()
+print("ready", flush=True)
 t0 = time.monotonic()
-while time.monotonic() - t0 < 3:
+while time.monotonic() - t0 < 5:
     pass
 """
 _LOOP = """
@@ -57,7 +60,8 @@ import os, selectors
 r, w = os.pipe()
 s = selectors.DefaultSelector()
 s.register(r, selectors.EVENT_READ)
-s.select(3)
+print("ready", flush=True)
+s.select(5)
 """
 
 
@@ -65,9 +69,10 @@ s.select(3)
                     reason="no /proc/PID/syscall or no syscall table here")
 def test_a_real_process_waiting_for_the_gil_is_busy_one_in_its_selector_asleep():
     def sample(code):
-        p = subprocess.Popen([sys.executable, "-c", code])
+        p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
         try:
-            time.sleep(0.5)
+            assert p.stdout.readline().strip() == "ready"  # past its imports, in its loop
+            time.sleep(0.2)
             files = [ProcFile(f"/proc/{p.pid}/{n}") for n in ("stat", "wchan", "syscall")]
             if files[2].read() is None:
                 pytest.skip("/proc/PID/syscall is not readable here")

@@ -108,8 +108,10 @@ def _handle(args: argparse.Namespace) -> int:
             line += f"\nstd: {est.metadata['std_is']}"
             inside = report["training_envelope_inside"]
             if inside is not None:
+                env = est.metadata["training_envelope"]
                 line += (f"\nair velocity inside the net's training flights: {100 * inside:.0f} "
-                         "% of samples (joint cells of 0.25 m/s flown for 0.2 s or more)"
+                         f"% of samples (joint cells of {env['cell_m_s']:g} m/s flown for "
+                         f"{env['min_s']:g} s or more)"
                          + ("" if inside >= 0.8 else " - outside them the net extrapolates: "
                             "fly still-air legs at these air velocities (docs/networks.md)"))
         elif args.method == "apf":

@@ -7,7 +7,8 @@ A still-air wind net (docs/networks.md "Still-air labels") learns the air veloci
 flights where it changes only as fast as the pilot flies. At sea, measured against the
 blade-element truth's spectra, it follows the wind below about 0.1 Hz (gain 0.94-1.04),
 lags between 0.1 and 0.3 Hz and misses what is faster; its validation error, measured in
-still air, leaves that part out, so its interval alone covers 44-83 % at sea.
+still air, leaves that part out, so its interval alone covers about half to four fifths
+of the truth at sea (0.45-0.83 on the blade-element ship flights).
 
 The model's smoother (`airwake.estimate.smoother`) reads the wind through the dynamics:
 it follows the fast part, with a steady offset from the model's misfit and a fast error of
@@ -17,9 +18,10 @@ smoother's own fast error; the two are independent, so the difference's local po
 bounds the net's missing part from above (by the smoother's fast error). The difference
 is high-passed by a centred Gaussian whose complement passes half the power at
 `HIGHPASS_HZ` (the net's measured band edge) and its square averaged over a centred
-Gaussian window of `WINDOW_S` (1 sigma, cut at 3; about 20 s wide, several correlation times of
-the high-passed wind) — local, because the airwake's turbulence is not the same
-everywhere over the deck. Offline only: both windows read the future.
+Gaussian window of `WINDOW_S` (1 sigma, cut at 3: 30 s in all, most of its weight in
+the middle 20 s; several correlation times of the high-passed wind) — local, because
+the airwake's turbulence is not the same everywhere over the deck. Offline only: both
+windows read the future.
 """
 
 from __future__ import annotations

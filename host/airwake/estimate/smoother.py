@@ -547,15 +547,15 @@ class WindSmoother:
             try:
                 chol = np.linalg.cholesky(s_cov)
             except np.linalg.LinAlgError:
-                mf[j], pf[j] = s, p
-                continue
-            gain = np.linalg.solve(s_cov, ph.T).T
-            s = s + gain @ innov
-            ikh = eye - gain @ h_mat
-            p = ikh @ p @ ikh.T + gain @ r @ gain.T
-            p = 0.5 * (p + p.T)
-            y = np.linalg.solve(chol, innov)
-            loglik -= 0.5 * (y @ y + 2.0 * np.sum(np.log(np.diag(chol))) + 6 * LOG_2PI)
+                chol = None  # no channel update here; the anchor reads no channel
+            if chol is not None:
+                gain = np.linalg.solve(s_cov, ph.T).T
+                s = s + gain @ innov
+                ikh = eye - gain @ h_mat
+                p = ikh @ p @ ikh.T + gain @ r @ gain.T
+                p = 0.5 * (p + p.T)
+                y = np.linalg.solve(chol, innov)
+                loglik -= 0.5 * (y @ y + 2.0 * np.sum(np.log(np.diag(chol))) + 6 * LOG_2PI)
             if anchored and self.anchor[2][k]:
                 s, p, anchor_gain[j] = self._anchor_update(k, s, p)
             mf[j], pf[j] = s, p
@@ -668,13 +668,15 @@ class WindSmoother:
                             time.perf_counter() - t0)
 
     # -- steady measurement offsets ------------------------------------------------
-    def offset_sensitivity(self) -> np.ndarray:
+    def offset_sensitivity(self, anchor: bool = False) -> np.ndarray:
         """(n, 6, 6) d(smoothed wind) / d(a constant offset on each measured channel), at
         every kept sample, for the last pass of `run` (its linearisation, gains and
-        noise). The smoothed mean of a pass is affine in the measurements (the pass is
-        linearised along a fixed trajectory), so a constant offset e_j on channel j moves
-        it by exactly the response of the same filter and smoother to that offset:
+        noise); with `anchor`, (n, 6, 3) for a constant offset on each component of the
+        anchor's mean flow. The smoothed mean of a pass is affine in the measurements (the
+        pass is linearised along a fixed trajectory), so a constant offset e_j moves it by
+        exactly the response of the same filter and smoother to that offset:
             d_k^- = Phi_k d_{k-1},  d_k = d_k^- + K_k (e_j - H_k d_k^-)
+            (then the anchor's update: d_k += K^a_k (e^a_j - H^a d_k))
             d^s_k = d_k + G_k (d^s_{k+1} - d^-_{k+1})
         (Schmidt's "consider" analysis: the estimate is not changed, its uncertainty
         is)."""
@@ -682,16 +684,18 @@ class WindSmoother:
         if passes is None:
             raise RuntimeError("offset_sensitivity: run() the smoother first")
         n_s = self.n_state
-        out = np.full((self.pre.data.t.size, 6, 6), np.nan)
+        q = 3 if anchor else 6
+        out = np.full((self.pre.data.t.size, 6, q), np.nan)
         c = self._wind_rows()
         r = np.diag(self.last_noise)
-        eye6 = np.eye(6)
+        e_channels = np.zeros((6, q)) if anchor else np.eye(6)
+        e_anchor = np.eye(3) if anchor else np.zeros((3, q))
         with single_blas_thread():
             for run, ps, lin in passes:
                 n = ps.mf.shape[0]
-                df = np.zeros((n, n_s, 6))
-                dp = np.zeros((n, n_s, 6))
-                d = np.zeros((n_s, 6))
+                df = np.zeros((n, n_s, q))
+                dp = np.zeros((n, n_s, q))
+                d = np.zeros((n_s, q))
                 for j in range(n):
                     if j > 0:
                         d = ps.phi[j] @ d
@@ -701,13 +705,12 @@ class WindSmoother:
                     s_cov = h_mat @ ph + r
                     try:
                         np.linalg.cholesky(s_cov)
+                        gain = np.linalg.solve(s_cov, ph.T).T
+                        d = d + gain @ (e_channels - h_mat @ d)
                     except np.linalg.LinAlgError:
-                        df[j] = d  # the filter made no update here either
-                        continue
-                    gain = np.linalg.solve(s_cov, ph.T).T
-                    d = d + gain @ (eye6 - h_mat @ d)
-                    if ps.anchor_gain is not None:  # the anchor reads no channel
-                        d = d - ps.anchor_gain[j] @ (c[:3] @ d)
+                        pass  # the filter made no channel update here either
+                    if ps.anchor_gain is not None:  # zero where there is no anchor
+                        d = d + ps.anchor_gain[j] @ (e_anchor - c[:3] @ d)
                     df[j] = d
                 ds = df.copy()
                 for k in range(n - 2, -1, -1):
@@ -721,6 +724,14 @@ class WindSmoother:
         still-air `model_error_offset`): sqrt(sum_j (S_kj sigma_j)^2) per component."""
         sig = _offset_stds(offset_std)
         sens = self.offset_sensitivity()
+        return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
+
+    def anchor_offset_std(self, anchor_std) -> np.ndarray:
+        """(n, 6) the wind's std from a steady error of std `anchor_std` (3,) on each
+        component of the anchor's mean flow, which its per-sample measurement treats as
+        white: a net's error is correlated over the flight (its bias, its smoothing)."""
+        sig = np.asarray(anchor_std, dtype=float)
+        sens = self.offset_sensitivity(anchor=True)
         return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
 
     def _relinearise(self, run: slice, old: _Pass) -> _Lin:

@@ -135,7 +135,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
             ref = estimate_wind(ft, model=interval_model, cutoff_hz=cutoff_hz,
                                 rate_hz=rate_hz, em_passes=em_passes,
                                 airspeed_m_s=airspeed_m_s, ins_velocity_std=ins_velocity_std,
-                                progress=progress)
+                                channel_scale=channel_scale, progress=progress)
             _widen_by_model(est, ref, interval_model)
         return est
     heli = load_model(model)
@@ -241,37 +241,38 @@ def _frame(t, mean, std, ins_velocity_std, extra_cols=None):
 
 
 def _anchor_at(anchor, t: np.ndarray, ins_velocity_std: float):
-    """(mean, std) (n, 3) of a wind table's mean flow at times t (NaN outside it); the
-    INS velocity error, which the table's std carries, taken out again: the smoother reads
-    the same INS and adds it to its own output."""
-    import warnings
-
+    """(mean, std) (n, 3) of a wind table's mean flow at times t (NaN outside it and
+    where it has none: a dropout); the INS velocity error its std carries (its metadata's
+    `ins_velocity_std_m_s`, else this flight's) taken out again — the smoother reads the
+    same INS and adds it to its own output — and where its std is not above that error,
+    the std kept as it is (never a narrower measurement than the table says)."""
     from airwake.estimate.errors import WindEstimationError
-    from airwake.record.flight_table import FlightTableError, load_flight_table
+    from airwake.record.flight_table import FlightTableError, read_flight_table
 
     cols = [c for n in WIND_NAMES[:3] for c in (n, f"{n}_std")]
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            df = anchor if hasattr(anchor, "columns") else load_flight_table(
-                anchor, ("t_s",), reads=cols).df
-    except FlightTableError as exc:
-        raise WindEstimationError(f"--anchor: {exc}") from None
-    for w in caught:  # the columns the anchor is read for; not its rotation (a still-air
-        # net's is NaN throughout)
-        if any(f"'{c}'" in str(w.message) for c in cols):
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if hasattr(anchor, "columns"):
+        df, meta = anchor, {}
+    else:
+        try:
+            df, meta = read_flight_table(anchor)
+        except FlightTableError as exc:
+            raise WindEstimationError(f"--anchor: {exc}") from None
     missing = [c for c in ("t_s", *cols) if c not in df.columns]
     if missing:
         raise WindEstimationError(f"--anchor {anchor}: not a wind table (missing {missing})")
     ta = np.asarray(df["t_s"], dtype=float)
-    if ta.size < 2 or not np.all(np.diff(ta) > 0):
-        raise WindEstimationError(f"--anchor {anchor}: t_s must increase over 2+ samples")
+    if ta.size < 2 or not np.all(np.isfinite(ta)) or not np.all(np.diff(ta) > 0):
+        raise WindEstimationError(f"--anchor {anchor}: t_s must be finite and increase "
+                                  "over 2+ samples")
     mean = np.column_stack([np.interp(t, ta, np.asarray(df[n], float), np.nan, np.nan)
                             for n in WIND_NAMES[:3]])
     std = np.column_stack([np.interp(t, ta, np.asarray(df[f"{n}_std"], float), np.nan,
                                      np.nan) for n in WIND_NAMES[:3]])
-    std = np.sqrt(np.maximum(std**2 - ins_velocity_std**2, 1e-6))
+    ins = meta.get("ins_velocity_std_m_s", ins_velocity_std)
+    ins = float(ins) if isinstance(ins, int | float) and np.isfinite(ins) else ins_velocity_std
+    var = std**2 - ins**2
+    with np.errstate(invalid="ignore"):
+        std = np.where(var > 0, np.sqrt(np.maximum(var, 0.0)), std)
     return mean, std
 
 
@@ -326,12 +327,18 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
         forces[3:] = 0.0
         offset_part = sm.offset_std(forces)
         std = np.sqrt(std**2 + offset_part**2)
+    anchor_sigma = None
     if anchor is not None:
         # the posterior fuses the anchor with the model's own reading of the mean flow,
         # which is what the anchor is there to replace (biased on an airframe the model
         # does not fit): the model does not narrow the anchor's interval
         std = std.copy()
         std[:, :3] = np.fmax(std[:, :3], anchor[1])
+        # and the rotation read given it carries its error, which the per-sample update
+        # takes as white: its typical std as a steady offset ("consider")
+        anchor_sigma = np.nanmedian(anchor[1], axis=0)
+        part = sm.anchor_offset_std(anchor_sigma)
+        std[:, 3:] = np.sqrt(std[:, 3:] ** 2 + part[:, 3:] ** 2)
     df = _frame(res.t, res.mean, std, ins_velocity_std)
     extra = {
         "front_end": {"cutoff_hz": pre.cutoff_hz, "rate_hz": pre.rate_hz,
@@ -345,6 +352,7 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
         "offset_std": None if offset_part is None else forces.tolist(),
         "offset_std_rms": None if offset_part is None else
         np.sqrt(np.nanmean(offset_part**2, axis=0)).tolist(),
+        "anchor_offset_std": None if anchor_sigma is None else anchor_sigma.tolist(),
     }
     return df, extra, res.seconds, sm, res
 
@@ -446,6 +454,8 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
         # the share of samples whose air velocity the training flights held (nets.
         # air_envelope); None for a net trained before the card kept its envelope
         "training_envelope_inside": inside,
+        "training_envelope": None if inside is None else {
+            k: v for k, v in card["air_velocity_envelope"].items() if k != "cells"},
         "frame": "body axes at the main-rotor hub (eq 5.3)",
         "ins_velocity_std_m_s": float(ins_velocity_std),
         "flight_fingerprint": flight_fingerprint(getattr(ft, "df", ft)),

@@ -8,7 +8,9 @@ lies outside every state its training flights held it extrapolates (a still-air 
 cruise legs with the nose at +-15 deg reads a ship's 15 deg wind-over-deck with its
 lateral part ~0.1 m/s short: docs/networks.md). The envelope is joint, not per axis: 3 m/s
 forward and 1.5 m/s sideways together is a state of its own even when each alone was
-flown. Air velocity (body axes) in cells of `CELL_M_S`; a cell is flown when the training
+flown. Air velocity (body axes: the body's velocity through the air, INS velocity less
+the wind — the opposite sign of `airwake.calibrate.envelope`'s "air velocity", the air's
+velocity seen from the body) in cells of `CELL_M_S`; a cell is flown when the training
 flights held it for at least `MIN_S` seconds; a sample is inside when its cell or a
 neighbouring one (the 27 around it) is flown.
 """

@@ -249,13 +249,15 @@ def train_wind_net(tables, seed: int = 0, hidden=(32, 16), config: WindNetConfig
 def envelope_share(net: PilotNet, table, est: pd.DataFrame) -> float | None:
     """The share of the estimate's samples whose air velocity (the INS body velocity less
     the estimated mean flow) lies inside the net's training flights' (`air_envelope`);
-    None for a net whose card has no envelope (trained before it was kept)."""
+    None for a net whose card has no envelope (trained before it was kept) or a flight
+    with no finite estimate."""
     env = net.card.get("air_velocity_envelope")
     if env is None:
         return None
     t = est["t_s"].to_numpy(float)
     air = body_velocity(table, t) - est[list(WIND_OUTPUTS[:3])].to_numpy(float)
-    return inside_share(env, air)
+    share = inside_share(env, air)
+    return None if not np.isfinite(share) else share
 
 
 def predict_wind(net: PilotNet, table, smooth_s: float | None = None) -> pd.DataFrame:
