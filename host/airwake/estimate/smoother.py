@@ -166,7 +166,7 @@ class _Pass:
     cs: np.ndarray = None
     gain: np.ndarray = None  # (n, N, N) the RTS gains G_k (row n-1 unused)
     loglik: float = 0.0
-    anchor_gain: np.ndarray = None  # (n, N, 3) the mean-flow anchor's gains (0: none)
+    anchor_gain: np.ndarray = None  # (n, N, 3) the mean-flow anchor's gains; None: no anchor
 
 
 def _offset_stds(offset_std) -> np.ndarray:
@@ -328,6 +328,8 @@ class WindSmoother:
             if not ok.any():
                 raise ValueError("anchor: no sample has a finite mean and std")
             self.anchor = (np.where(ok[:, None], a_mean, np.nan), a_std, ok)
+            self._anchor_rows = self._wind_rows()[:3]  # v = mu + xi: what the anchor reads
+            self._eye = np.eye(self.n_state)
         self.prop = HiddenPropagator(model, data.dt, None, data.reference_row())
         if not self.prop.valid[0]:
             raise ValueError("the model's rotor dynamics cannot be linearised at this "
@@ -509,7 +511,8 @@ class WindSmoother:
         idx = np.arange(run.start, run.stop)
         n = idx.size
         anchored = anchored and self.anchor is not None
-        anchor_gain = np.zeros((n, n_s, 3))
+        # the anchor's gains per sample (zero where it has none); None without an anchor
+        anchor_gain = np.zeros((n, n_s, 3)) if anchored else None
         mf = np.empty((n, n_s))
         pf = np.empty((n, n_s, n_s))
         mp = np.empty((n, n_s))
@@ -565,12 +568,12 @@ class WindSmoother:
         """The anchor's mean flow at sample k as a measurement of v (Joseph form):
         (state, covariance, gain (N, 3))."""
         mean, std, _ = self.anchor
-        h = self._wind_rows()[:3]
+        h = self._anchor_rows
         r = np.diag(std[k] ** 2)
         ph = p @ h.T
         gain = np.linalg.solve(h @ ph + r, ph.T).T
         s = s + gain @ (mean[k] - h @ s)
-        ikh = np.eye(self.n_state) - gain @ h
+        ikh = self._eye - gain @ h
         p = ikh @ p @ ikh.T + gain @ r @ gain.T
         return s, 0.5 * (p + p.T), gain
 
@@ -709,7 +712,7 @@ class WindSmoother:
                         d = d + gain @ (e_channels - h_mat @ d)
                     except np.linalg.LinAlgError:
                         pass  # the filter made no channel update here either
-                    if ps.anchor_gain is not None:  # zero where there is no anchor
+                    if ps.anchor_gain is not None:  # (zero at samples without the anchor)
                         d = d + ps.anchor_gain[j] @ (e_anchor - c[:3] @ d)
                     df[j] = d
                 ds = df.copy()
