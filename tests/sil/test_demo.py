@@ -111,6 +111,10 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert "http://" not in html and "https://" not in html and "<script" not in html
     summary = json.loads((out / "map" / "summary.json").read_text())
     assert summary["frame"] == "ship" and summary["cells"] > 0 and "score" in summary
+    # the map is made from the best wind this airframe gives: the smoother anchored on the
+    # still-air net's mean flow, and its summary says so
+    assert summary["estimate"]["method"] == "smoother"
+    assert summary["estimate"]["anchor"] == str(out / "wind_still_air_net.parquet")
     assert summary["headline"] in html
     base, t52 = load_spec(out / "baseline.toml"), load_spec("table52")
 

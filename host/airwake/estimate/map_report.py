@@ -74,7 +74,8 @@ def make_map(wind, flight, out_dir, *, cell_m: float = 0.5, layer_m: float = 1.0
         summary = {"headline": headline(amap), "out": str(out), **amap.settings,
                    "cells": len(amap.cells), "seconds": float(amap.cells["seconds"].sum()),
                    "figures": [p.name for p in figs.values()],
-                   "estimate": {k: wind.metadata.get(k) for k in ("method", "model_spec")}}
+                   "estimate": {k: wind.metadata.get(k) for k in ("method", "model_spec",
+                                                                      "anchor")}}
         if amap.score is not None:
             summary["score"] = {k: v for k, v in amap.score.items() if k != "truth_cells"}
         write_json(summary, tmp / "summary.json")
