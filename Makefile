@@ -20,7 +20,7 @@ APT_PACKAGES := gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
 PYTEST_ARGS ?= -n 2
 BOARD ?=
 
-.PHONY: help setup apt venv gen test test-c test-py firmware native flash bench lint demo sim clean \
+.PHONY: help setup apt venv warm gen test test-c test-py firmware native flash bench lint demo sim clean \
         docs-screenshots
 
 help:
@@ -33,7 +33,9 @@ help:
 	@echo "make gen       regenerate protocol code, docs and vectors"
 	@echo "make lint      ruff"
 
-setup: apt venv
+# setup ends by compiling the numba kernels the demo's steps use (on flights of seconds):
+# the first process that needs a kernel compiles it into its on-disk cache, later ones load
+setup: apt venv native warm
 
 apt:
 	@missing=""; for p in $(APT_PACKAGES); do \
@@ -46,6 +48,13 @@ apt:
 	fi
 
 venv: $(VENV_STAMP)
+
+WARM_STAMP := build/.kernels-compiled
+warm: $(WARM_STAMP)
+
+$(WARM_STAMP): $(VENV_STAMP) | native
+	$(PY) -m hil_sim.boards.demo --warm
+	@touch $@
 
 $(VENV_STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)

@@ -134,6 +134,52 @@ def _finish(started):
     return json.loads(stdout.read_text()) if stdout is not None else None
 
 
+WARM_S = {"calibration": 20.0, "ship": 6.0, "cruise": 10.0}  # flights of `warm` (s)
+
+
+def warm(out: Path) -> float:
+    """Every step of the demo once, on flights of seconds (`WARM_S`), so that the numba
+    kernels they compile - the truth world's blade-element helicopter, the host model's
+    effects and the catalogue's candidates, the estimators - are compiled into their
+    on-disk caches (the first process compiles, later ones load: tens of seconds per
+    step). `make setup` runs it (`--warm`): a fresh clone's first `make demo` then runs as
+    fast as later ones. Nothing it writes is kept. Returns its wall time (s)."""
+    t0 = time.monotonic()
+    if out.exists():
+        shutil.rmtree(out)
+    out.mkdir(parents=True)
+    truth = truth_arguments("blade_element")
+    still, base = out / "calibration.parquet", out / "baseline.toml"
+    rec, flight, scored = out / "recording", out / "flight.parquet", out / "scored.parquet"
+    try:
+        sil = _start("sim", "run", "--scenario", "ship_airwake_b0", *truth, "--duration",
+                     f"{WARM_S['ship']:g}", "--stepped", "--out", str(rec),
+                     log=out / "sim_run.log")
+        _airwake("sim", "table", "--scenario", "still_air_calibration", *truth, "--duration",
+                 f"{WARM_S['calibration']:g}", "--quiet", "--out", str(still))
+        net_job = still_air_net_start(out, truth, WARM_S["cruise"])
+        _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
+                 "--max-windows", CALIBRATION_WINDOWS, "--json", capture=True)
+        net_job = still_air_net_train(out, still, net_job)
+        model = discrepancy_step(still, base, out / "model.toml")["model"]
+        _finish(sil)
+        _airwake("export", str(rec), "--out", str(flight))
+        _airwake("sim", "truth", str(rec), "--flight", str(flight), "--out", str(scored))
+        _airwake("model", "diagnose", str(scored), "--model", str(model), "--no-sindy",
+                 "--refine", DIAGNOSE_REFINE, "--json", capture=True)
+        _airwake("wind", "estimate", str(scored), "--model", str(model), "--score", "--json",
+                 "--out", str(out / "wind.parquet"), capture=True)
+        still_air_net_step(out, scored, model, net_job)
+        _airwake("wind", "map", str(out / MAPPED), "--flight", str(scored), "--out",
+                 str(out / "map"), "--min-seconds", "0.1", "--json", capture=True)
+        _airwake("model", "compare", str(scored), "--model", str(model), "--windows", "0",
+                 "--wind", str(out / "wind.parquet"), "--json", capture=True)
+    finally:
+        _stop_background()
+        shutil.rmtree(out, ignore_errors=True)
+    return time.monotonic() - t0
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         return _demo(argv)
@@ -144,8 +190,12 @@ def main(argv: list[str] | None = None) -> int:
 def _demo(argv: list[str] | None) -> int:
     p = argparse.ArgumentParser(prog="python -m hil_sim.boards.demo", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", default=str(REPO_ROOT / "build" / "demo"),
-                   help="output directory (replaced; default build/demo)")
+    p.add_argument("--out", default=None,
+                   help="output directory (replaced; default build/demo, build/warm with "
+                   "--warm)")
+    p.add_argument("--warm", action="store_true",
+                   help="only compile the kernels every step uses, on flights of seconds "
+                   "(what `make setup` runs; nothing kept)")
     p.add_argument("--scenario", default="ship_airwake_b0")
     p.add_argument("--duration", type=float, default=60.0, help="simulated seconds")
     p.add_argument("--calibration-s", type=float, default=None,
@@ -159,7 +209,13 @@ def _demo(argv: list[str] | None) -> int:
                    "the crossover pilot (default), or the host's own effect model with the "
                    "scenario's pilot (our own model: for comparison only)")
     args = p.parse_args(argv)
-    out = Path(args.out)
+    if args.warm:
+        out = Path(args.out or REPO_ROOT / "build" / "warm")
+        print(f"setup: the demo's steps on flights of seconds, to compile their kernels "
+              f"once ({out}, removed after)", flush=True)
+        print(f"setup: kernels compiled in {warm(out):.0f} s", flush=True)
+        return 0
+    out = Path(args.out or REPO_ROOT / "build" / "demo")
     if out.exists():
         shutil.rmtree(out)
     out.mkdir(parents=True)
