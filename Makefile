@@ -65,7 +65,8 @@ $(VENV_STAMP): pyproject.toml
 gen: setup
 	$(PY) protocol/codegen/generate.py
 
-test: setup test-c test-py
+# (not `setup`: the suite compiles the kernels it uses itself, the warm-up would add minutes)
+test: apt venv test-c test-py
 
 test-c: apt
 	$(MAKE) -C firmware test
