@@ -44,6 +44,8 @@ def test_every_board_is_detected_identified_and_clean(clean_flight):
     rec = open_recording(clean_flight / "rec")
     assert rec.complete and set(rec.boards) == BOARDS
     assert s["drained"] is True
+    # and it read nothing but its ports in mid-flight: the lockstep's byte count is exact
+    assert s["lockstep"] == {"other_read_bytes": 0, "other_reads": 0}
 
 
 def test_message_rates_are_within_5_percent_of_nominal(clean_flight):

@@ -86,3 +86,73 @@ def test_a_real_process_waiting_for_the_gil_is_busy_one_in_its_selector_asleep()
 
     assert not any(sample(_GIL))
     assert all(sample(_LOOP))
+
+
+class _Daemon:
+    """What the lockstep reads of the daemon: its rchar (port bytes it has read plus
+    `other`, bytes read from elsewhere)."""
+
+    killed = False
+
+    def __init__(self):
+        self.port_bytes = 0
+        self.other = 0
+
+    def read_chars(self):
+        return self.port_bytes + self.other
+
+    def wait_read(self, target, queues_empty, settle_s):
+        assert self.read_chars() >= target  # the daemon below reads each step at once
+        return 0
+
+    def wait_idle(self):
+        pass
+
+
+class _Pty:
+    plugged, replugs = True, 0
+
+    def __init__(self):
+        self.bytes_written = 0
+        self.queued = 0
+
+    def unread(self):
+        return self.queued
+
+
+def _lockstep(daemon, pty):
+    from hil_sim.boards.sil import SilRun
+
+    run = SilRun.__new__(SilRun)  # only what _wait_host_idle reads
+    run.daemon, run.ptys, run.timing = daemon, {"base": pty}, {}
+    run._rchar0 = daemon.read_chars()
+    run._ports_seen = ((True, 0),)
+    run.other_reads = {"bytes": 0, "times": 0}
+    return run
+
+
+def test_a_read_from_elsewhere_is_taken_out_of_the_lockstep_byte_count():
+    # a daemon that imports a module in mid-pass reads more than the ports gave it: without
+    # a re-base the byte count is met early at every later step (the lockstep then rests
+    # on the idle check alone); with it the count stays exact and the read is counted
+    daemon, pty = _Daemon(), _Pty()
+    daemon.other = 5000  # its start-up reads, before the flight
+    run = _lockstep(daemon, pty)
+    for step in range(6):
+        pty.bytes_written += 100
+        daemon.port_bytes += 100
+        if step == 2:
+            daemon.other += 413_688  # np.median's lazy `import numpy.ma`
+        run._wait_host_idle()
+        assert run._rchar0 + pty.bytes_written == daemon.read_chars(), step
+    assert run.other_reads == {"bytes": 413_688, "times": 1}
+    # bytes still queued for the daemon when it is noticed are not counted as read
+    daemon2, pty2 = _Daemon(), _Pty()
+    run2 = _lockstep(daemon2, pty2)
+    pty2.bytes_written += 300
+    daemon2.port_bytes += 200
+    pty2.queued = 100
+    daemon2.other += 1000
+    run2._wait_host_idle()
+    assert run2.other_reads == {"bytes": 1000, "times": 1}
+    assert run2._rchar0 + pty2.bytes_written - daemon2.read_chars() == 100  # still to read

@@ -56,6 +56,9 @@ def test_sim_run_flies_and_reports_the_recording_and_link_health(tmp_path):
     assert "sil " in r.stderr  # progress
     s = json.loads((rec / "sil" / "run.json").read_text())
     assert s["daemon_exit"] == 0 and s["boards"] == ["rover", "base"]
+    # the daemon read nothing but its ports in mid-flight (a lazy import, 413 kB of
+    # numpy.ma on its first clock fit, had met the lockstep's byte count early all flight)
+    assert s["lockstep"] == {"other_read_bytes": 0, "other_reads": 0}
     assert not (rec / "ports").exists()
     info = airwake("recording", "info", str(rec), "--json")
     assert info.returncode == 0 and "/rover/ins" in info.stdout

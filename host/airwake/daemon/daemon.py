@@ -37,6 +37,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO
 
+# numpy (2.x) imports numpy.ma lazily, on the first np.median (the boards' clock fits): done
+# here, at start, not as a 400 kB read that stalls the ingest in mid-flight (and that the
+# SIL lockstep, which counts the daemon's reads, would see as port bytes)
+import numpy.ma  # noqa: F401
+
 from airwake.link.decoder import StreamDecoder
 from airwake.link.framing import encode_frame
 from airwake.link.health import BoardLink, RateMeter, board_health, port_health
