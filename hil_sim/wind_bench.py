@@ -40,6 +40,9 @@ each after a warm-up that loads the compiled model kernels:
   components): the smoother of the bench model anchored on that widened still-air net's
   mean flow (`wind estimate --anchor`): the mean flow the net's, the rotation the
   model's given it.
+- `map_field_rms_u`, `_v`, `_w`, `_wx`, `_wy`, `_wz`: the airwake map of that anchored
+  estimate (`airwake wind map --score`, cells of 0.5 m), RMS against the truth world's
+  field over the `map_cells` cells with >= 2 s of data (what `make demo` maps).
 
 And what the truth world pays for its wind, per field type (`still_air`, `uniform`,
 `fans_indoor`, `ship_airwake` at their defaults, the airwake at 15 deg):
@@ -168,8 +171,14 @@ def _still_air_net_figures(flight: Path, spec: Path, net: Path, made_s: float) -
                                "--anchor", str(net.parent / "wind_on_bench_flight.parquet"),
                                "--score", "--json", "--out",
                                str(net.parent / "anchored_on_bench_flight.parquet")))
+    mapdir = net.parent / "map_of_bench_flight"
+    shutil.rmtree(mapdir, ignore_errors=True)
+    amap = json.loads(_cli("wind", "map", str(net.parent / "anchored_on_bench_flight.parquet"),
+                           "--flight", str(flight), "--out", str(mapdir), "--score", "--json"))
     out = {"still_air_net_realtime_factor": res["realtime_factor"],
-           "still_air_net_prepare_s": made_s}
+           "still_air_net_prepare_s": made_s, "map_cells": amap["score"]["cells"]}
+    for name, c in amap["score"]["field"].items():  # u_m_s ... wz_rad_s
+        out[f"map_field_rms_{name.split('_')[0]}"] = c["rms"]
     for name, c in anchored["score"]["components"].items():
         short = _short(name)
         out[f"anchored_error_mean_{short}"] = c["error_mean"]
