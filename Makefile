@@ -62,7 +62,7 @@ $(VENV_STAMP): pyproject.toml
 	$(PY) -m pip install -q -e '.[dev]'
 	@touch $@
 
-gen: setup
+gen: apt venv
 	$(PY) protocol/codegen/generate.py
 
 # (not `setup`: the suite compiles the kernels it uses itself, the warm-up would add minutes)
@@ -98,7 +98,7 @@ demo: setup native
 	$(PY) -m hil_sim.boards.demo
 
 # docs/img/daemon-live-page.png: the daemon's live page on a SIL flight, in headless Chromium
-docs-screenshots: setup native
+docs-screenshots: apt venv native
 	AIRWAKE_DOCS_SCREENSHOT=1 $(PY) -m pytest tests/sil/test_sil_live_page.py -q
 
 clean:

@@ -134,56 +134,14 @@ def _finish(started):
     return json.loads(stdout.read_text()) if stdout is not None else None
 
 
-# flights of `warm` (s); 40 s of calibration: its diagnosis names the effect the demo's
-# 160 s one does (advance_cyclic), so the ship flight's diagnosis compiles the same models
-# (on 80 s it names cg_offset)
-WARM_S = {"calibration": 40.0, "ship": 6.0, "cruise": 10.0}
-
-
-def warm(out: Path) -> float:
-    """Every step of the demo once, on flights of seconds (`WARM_S`), so that the numba
-    kernels they compile - the truth world's blade-element helicopter, the host model's
-    effects and the catalogue's candidates, the estimators - are compiled into their
-    on-disk caches (the first process compiles, later ones load: tens of seconds per
-    step). `make setup` runs it (`--warm`): a fresh clone's first `make demo` then runs as
-    fast as later ones. Nothing it writes is kept. Returns its wall time (s)."""
-    t0 = time.monotonic()
-    if out.exists():
-        shutil.rmtree(out)
-    out.mkdir(parents=True)
-    truth = truth_arguments("blade_element")
-    still, base = out / "calibration.parquet", out / "baseline.toml"
-    rec, flight, scored = out / "recording", out / "flight.parquet", out / "scored.parquet"
-    try:
-        sil = _start("sim", "run", "--scenario", "ship_airwake_b0", *truth, "--duration",
-                     f"{WARM_S['ship']:g}", "--stepped", "--out", str(rec),
-                     log=out / "sim_run.log")
-        _airwake("sim", "table", "--scenario", "still_air_calibration", *truth, "--duration",
-                 f"{WARM_S['calibration']:g}", "--quiet", "--out", str(still))
-        net_job = still_air_net_start(out, truth, WARM_S["cruise"])
-        _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
-                 "--max-windows", CALIBRATION_WINDOWS, "--json", capture=True)
-        net_job = still_air_net_train(out, still, net_job)
-        discrepancy_step(still, base, out / "model.toml")
-        # the model with the effect the diagnosis named, kept or not: the models the
-        # demo's ship-flight diagnosis compiles (the base and each candidate added to it)
-        model = out / "model.toml" if (out / "model.toml").is_file() else base
-        _finish(sil)
-        _airwake("export", str(rec), "--out", str(flight))
-        _airwake("sim", "truth", str(rec), "--flight", str(flight), "--out", str(scored))
-        _airwake("model", "diagnose", str(scored), "--model", str(model), "--no-sindy",
-                 "--refine", DIAGNOSE_REFINE, "--json", capture=True)
-        _airwake("wind", "estimate", str(scored), "--model", str(model), "--score", "--json",
-                 "--out", str(out / "wind.parquet"), capture=True)
-        still_air_net_step(out, scored, model, net_job)
-        _airwake("wind", "map", str(out / MAPPED), "--flight", str(scored), "--out",
-                 str(out / "map"), "--min-seconds", "0.1", "--json", capture=True)
-        _airwake("model", "compare", str(scored), "--model", str(model), "--windows", "0",
-                 "--wind", str(out / "wind.parquet"), "--json", capture=True)
-    finally:
-        _stop_background()
-        shutil.rmtree(out, ignore_errors=True)
-    return time.monotonic() - t0
+# `--warm` (what `make setup` runs): the demo itself on flights of seconds, so that the
+# numba kernels its steps compile - the truth world's blade-element helicopter, the host
+# model's effects and the catalogue's candidates, the estimators - are in their on-disk
+# caches (the first process compiles, later ones load: tens of seconds per step) and a
+# fresh clone's first `make demo` runs as fast as later ones. 40 s of calibration: its
+# diagnosis names the effect the demo's 160 s one does (advance_cyclic; on 80 s it names
+# cg_offset), so the ship flight's diagnosis compiles the same models. Nothing is kept.
+WARM_S = {"ship": 10.0, "calibration": 40.0, "cruise": 10.0}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -200,8 +158,8 @@ def _demo(argv: list[str] | None) -> int:
                    help="output directory (replaced; default build/demo, build/warm with "
                    "--warm)")
     p.add_argument("--warm", action="store_true",
-                   help="only compile the kernels every step uses, on flights of seconds "
-                   "(what `make setup` runs; nothing kept)")
+                   help="the demo on flights of seconds, only to compile the kernels its "
+                   "steps use (what `make setup` runs; nothing kept)")
     p.add_argument("--scenario", default="ship_airwake_b0")
     p.add_argument("--duration", type=float, default=60.0, help="simulated seconds")
     p.add_argument("--calibration-s", type=float, default=None,
@@ -216,12 +174,13 @@ def _demo(argv: list[str] | None) -> int:
                    "scenario's pilot (our own model: for comparison only)")
     args = p.parse_args(argv)
     if args.warm:
+        args.duration, args.calibration_s, args.cruise_s = (
+            WARM_S["ship"], WARM_S["calibration"], WARM_S["cruise"])
         out = Path(args.out or REPO_ROOT / "build" / "warm")
-        print(f"setup: the demo's steps on flights of seconds, to compile their kernels "
-              f"once ({out}, removed after)", flush=True)
-        print(f"setup: kernels compiled in {warm(out):.0f} s", flush=True)
-        return 0
-    out = Path(args.out or REPO_ROOT / "build" / "demo")
+        print(f"setup: the demo on flights of seconds, to compile its steps' kernels once "
+              f"({out}, removed after)", flush=True)
+    else:
+        out = Path(args.out or REPO_ROOT / "build" / "demo")
     if out.exists():
         shutil.rmtree(out)
     out.mkdir(parents=True)
@@ -245,6 +204,10 @@ def _demo(argv: list[str] | None) -> int:
     net_job = still_air_net_train(out, still, net_job)
     step = discrepancy_step(still, base, out / "model.toml")
     model = step["model"]
+    if args.warm and (out / "model.toml").is_file():
+        # the model with the effect the diagnosis named, kept or not: the models the demo's
+        # ship-flight diagnosis compiles (the base and each candidate added to it)
+        model = out / "model.toml"
     _finish(sil)
     _airwake("export", str(rec), "--out", str(flight), "--progress")
     # scoring only: the truth world's columns beside the export (the analysis never reads
@@ -276,6 +239,10 @@ def _demo(argv: list[str] | None) -> int:
         (out / f"{name}.json").write_text(json.dumps(data, indent=1))
     write_report(report, mapdir, calib, est, amap, still_air, with_wind, args, diag, step,
                  net_est)
+    if args.warm:
+        shutil.rmtree(out, ignore_errors=True)
+        print(f"setup: kernels compiled in {time.monotonic() - t0:.0f} s", flush=True)
+        return 0
     print(f"\ndemo done in {time.monotonic() - t0:.0f} s:\n  baseline     {base}\n"
           f"  recording    {rec}\n  flight table {flight}\n  wind         {wind}\n"
           f"  airwake map  {mapdir / 'map.parquet'} ({', '.join(amap['figures'])})\n"

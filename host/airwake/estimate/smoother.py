@@ -169,6 +169,12 @@ class _Pass:
     anchor_gain: np.ndarray = None  # (n, N, 3) the mean-flow anchor's gains; None: no anchor
 
 
+def _consider_std(sens: np.ndarray, sig: np.ndarray) -> np.ndarray:
+    """(n, 6) the wind's std from independent steady offsets of std `sig` (q,) through
+    their sensitivities `sens` (n, 6, q): sqrt(sum_j (S_kj sigma_j)^2) per component."""
+    return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
+
+
 def _offset_stds(offset_std) -> np.ndarray:
     sig = np.asarray(offset_std, dtype=float)
     if sig.shape != (6,) or np.any(~np.isfinite(sig)) or np.any(sig < 0):
@@ -725,17 +731,14 @@ class WindSmoother:
         """(n, 6) the wind's std from steady channel offsets of std `offset_std` (6,),
         independent per channel, that the estimate does not know of (the model's
         still-air `model_error_offset`): sqrt(sum_j (S_kj sigma_j)^2) per component."""
-        sig = _offset_stds(offset_std)
-        sens = self.offset_sensitivity()
-        return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
+        return _consider_std(self.offset_sensitivity(), _offset_stds(offset_std))
 
     def anchor_offset_std(self, anchor_std) -> np.ndarray:
         """(n, 6) the wind's std from a steady error of std `anchor_std` (3,) on each
         component of the anchor's mean flow, which its per-sample measurement treats as
         white: a net's error is correlated over the flight (its bias, its smoothing)."""
-        sig = np.asarray(anchor_std, dtype=float)
-        sens = self.offset_sensitivity(anchor=True)
-        return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
+        return _consider_std(self.offset_sensitivity(anchor=True),
+                             np.asarray(anchor_std, dtype=float))
 
     def _relinearise(self, run: slice, old: _Pass) -> _Lin:
         """Linearisation of a run along its previous smoothed trajectory."""
