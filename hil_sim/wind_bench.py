@@ -8,7 +8,8 @@ model is made as `make demo` makes it (docs/calibration.md): `airwake calibrate`
 blade-element `still_air_calibration` flight from Table 5.2 (24 windows), `airwake model
 diagnose` on it and `airwake model add` of the effect its verdict names (unless the fit
 makes a channel worse). Both are made once and kept in build/bench-cache/wind-<key>
-(delete it to rebuild; the key covers the scenario files, the truth and BENCH_VERSION).
+(delete it to rebuild; the key covers the scenario files, the truth, BENCH_VERSION and
+SPEC_VERSION).
 
 The estimators run in a child process pinned to one thread (OMP/OpenBLAS/MKL/numba = 1),
 each after a warm-up that loads the compiled model kernels:
@@ -65,6 +66,9 @@ from pathlib import Path
 
 SECTION = "estimate"
 BENCH_VERSION = 3
+# what `airwake calibrate` writes into the bench model's spec (2: its still-air wind error,
+# 2026-11-28): a new one rebuilds the calibrated model and its flight, not the still-air net
+SPEC_VERSION = 2
 SCENARIO = "ship_airwake_b15"
 TRUTH = ("--truth", "blade_element", "--pilot", "crossover")
 SEED = 101
@@ -75,7 +79,8 @@ CACHE = REPO / "build" / "bench-cache"
 def _key(duration: float) -> str:
     from hil_sim.world.scenario import find_scenario
 
-    h = hashlib.sha1(f"{BENCH_VERSION} {SCENARIO} {SEED} {duration} {TRUTH}".encode())
+    h = hashlib.sha1(f"{BENCH_VERSION} {SCENARIO} {SEED} {duration} {TRUTH} "
+                     f"{SPEC_VERSION}".encode())
     for name in ("still_air_calibration", SCENARIO):
         h.update(find_scenario(name).read_bytes())
     return h.hexdigest()[:12]

@@ -88,6 +88,10 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert anchored["method"] == "smoother" and "crlb" not in anchored["score"]
     assert anchored["anchor"] == str(out / "wind_still_air_net.parquet")
     assert (out / "wind_anchored.parquet").is_file()
+    # its intervals carry what the model's own estimate erred beyond them in still air
+    excess = spec_calibration(step0["model"])["still_air_wind_error"]
+    assert anchored["still_air_wind_error"] == excess["anchored"]
+    assert len(excess["smoother"]) == 6 and min(excess["smoother"]) >= 0
     assert "a still-air wind net" in html
     for row in rows:
         assert "".join(f"<td>{html_escape(c)}</td>" for c in row) in html

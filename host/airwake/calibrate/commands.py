@@ -75,7 +75,26 @@ def calibration_table(result, flight, start) -> dict:
     # estimator cannot tell from a steady wind: it widens the wind's intervals by it)
     if info.get("model_error_offset") is not None:
         out["model_error_offset"] = list(info["model_error_offset"])
+    # and what a wind estimate made with it errs beyond its intervals on that still air:
+    # every later estimate's std carries it (the model's sensitivities are not the
+    # airframe's where the misfit reads as wind)
+    add_still_air_wind_error(out, result.model, flight)
     return out
+
+
+def add_still_air_wind_error(table: dict, model, flight) -> None:
+    """Adds `still_air_wind_error` to a [calibration] table (`airwake.estimate.wind`);
+    where the smoother cannot run on the flight, says so on stderr and leaves it out (the
+    calibration itself is kept)."""
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.estimate.wind import STILL_AIR_KEY, still_air_wind_error
+
+    table.pop(STILL_AIR_KEY, None)
+    try:
+        table[STILL_AIR_KEY] = still_air_wind_error(model, flight, table)
+    except WindEstimationError as exc:
+        print(f"airwake: warning: no still_air_wind_error in the spec (the wind "
+              f"estimate's intervals will not carry it): {exc}", file=sys.stderr)
 
 
 def _handle(args: argparse.Namespace) -> int:

@@ -93,13 +93,15 @@ def _register_plugin(plugin) -> list[str]:
 def _calibration_after(start_spec, new_model, effect: str, flight, wind,
                        flight_name: str) -> dict:
     """The new spec's [calibration] table: the start spec's, with the effects added since
-    and `model_error_std` / `model_error_offset` re-measured for the new model on the
-    still-air flight it was fitted on (what the wind estimator takes as its channel-noise
-    floor and its steady-offset allowance: those of the model it runs, not of the model
-    before the effect). With a windy flight and its
+    and `model_error_std` / `model_error_offset` / `still_air_wind_error` re-measured for
+    the new model on the still-air flight it was fitted on (what the wind estimator takes
+    as its channel-noise floor, its steady-offset allowance and its intervals' still-air
+    error: those of the model it runs, not of the model before the effect). With a windy
+    flight and its
     wind as input the floor is not re-measured: the start spec's is kept (it can only be
     larger), or none is written. `flight_name`: the flight as the report names it."""
     from airwake.calibrate import CalibrationError, model_error
+    from airwake.calibrate.commands import add_still_air_wind_error
     from airwake.heli import spec_calibration
 
     table = dict(spec_calibration(start_spec) or {})
@@ -112,6 +114,7 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
             table["model_error_flight"] = flight_name
         except CalibrationError as exc:
             raise DiscrepancyError(f"the model with {effect}: {exc}") from None
+        add_still_air_wind_error(table, new_model, flight)
     return table
 
 

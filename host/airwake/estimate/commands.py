@@ -84,7 +84,8 @@ def _handle(args: argparse.Namespace) -> int:
                       skipped_samples=int(est.df["skipped"].sum()))
     else:
         report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"],
-                      anchor=est.metadata.get("anchor"))
+                      anchor=est.metadata.get("anchor"),
+                      still_air_wind_error=est.metadata.get("still_air_wind_error"))
     report["calibration_envelope"] = est.metadata.get("calibration_envelope")
     report["ins_velocity_std_m_s"] = est.metadata["ins_velocity_std_m_s"]
     report["ins_velocity_std_source"] = est.metadata["ins_velocity_std_source"]
@@ -129,6 +130,11 @@ def _handle(args: argparse.Namespace) -> int:
                          "given it, its interval no narrower than the anchor's (no "
                          "Cramer-Rao bound: the anchor is information the model's bound has "
                          "not)")
+            excess = report["still_air_wind_error"]
+            if excess is not None:
+                line += ("\nstd widened by the error this model's estimate made beyond its "
+                         "interval on its still-air calibration flight: " + " ".join(
+                             f"{v:.2g}" for v in excess) + " (m/s x3, 1/s x3)")
         print(line)
         print(_ins_line(est.metadata))
         env = est.metadata.get("calibration_envelope")

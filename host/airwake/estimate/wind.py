@@ -40,6 +40,7 @@ TABLE_5_3 = {
     "wind_wy_rad_s": (0.0282, 0.0816),
     "wind_wz_rad_s": (-0.0072, 0.0645),
 }
+SCORE_BURN_IN_S = 2.0  # the estimate's first seconds (the smoother's start) not scored
 
 
 @dataclass
@@ -72,7 +73,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
                   channel_scale=None, steps: int | None = None,
                   progress: bool = False, net=None, interval_model=None,
-                  anchor=None) -> WindEstimate:
+                  anchor=None, calibration: dict | None = None) -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -94,11 +95,14 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     anchor (smoother): a wind table made without the model (`--method net` with a
     still-air net; path or DataFrame) whose mean flow and its std are taken as a
     measurement of v at every sample, so the model reads the rotation given that mean
-    flow (`WindSmoother`'s `anchor`)."""
+    flow (`WindSmoother`'s `anchor`).
+    calibration (smoother): the [calibration] table to read instead of the spec's (the
+    one `airwake calibrate` is about to write); the spec's `still_air_wind_error` joins
+    the std (`still_air_wind_error` below)."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
-    from airwake.heli import load_model
+    from airwake.heli import load_model, spec_calibration
     from airwake.record.flight_table import flight_fingerprint
 
     if method not in METHODS:
@@ -155,8 +159,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     smoother = result = None
     cutoff = CUTOFF_HZ if cutoff_hz is None else cutoff_hz
     if method == "smoother":
-        floor = model_error_floor(model)
-        offset = model_error_floor(model, "model_error_offset")
+        cal = spec_calibration(model) if calibration is None else calibration
+        floor = model_error_floor(model, table=cal)
+        offset = model_error_floor(model, "model_error_offset", table=cal)
         meta["model_error_std"] = None if floor is None else floor.tolist()
         meta["model_error_offset"] = None if offset is None else offset.tolist()
         meta["accel_bias_std_m_s2"] = accel_bias_std
@@ -169,6 +174,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
             airspeed_m_s, ins_velocity_std, progress, floor, offset, anchor)
         if anchor is not None:
             meta["anchor"] = str(anchor) if not hasattr(anchor, "columns") else "<table>"
+        excess = _still_air_excess(model, cal, anchored=anchor is not None)
+        meta["still_air_wind_error"] = None if excess is None else excess.tolist()
+        if excess is not None:
+            for name, g in zip(WIND_NAMES, excess, strict=True):
+                df[f"{name}_std"] = np.hypot(df[f"{name}_std"].to_numpy(), g)
     else:
         df, extra, seconds = _run_apf(
             heli, data, cutoff,
@@ -183,14 +193,16 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     return WindEstimate(df, meta, seconds, smoother, result)
 
 
-def model_error_floor(spec, key: str = "model_error_std") -> np.ndarray | None:
+def model_error_floor(spec, key: str = "model_error_std",
+                      table: dict | None = None) -> np.ndarray | None:
     """(6,) the model's error on its still-air calibration flight after the front end
     (the spec's `[calibration] model_error_std`, written by `airwake calibrate`; with
     key="model_error_offset" the part of it that holds for a window), or None for a spec
-    without it (a shipped table, a model object, an older calibration)."""
+    without it (a shipped table, a model object, an older calibration). `table`: that
+    [calibration] table instead of the spec's."""
     from airwake.heli import spec_calibration
 
-    cal = spec_calibration(spec) or {}
+    cal = (spec_calibration(spec) if table is None else table) or {}
     values = cal.get(key)
     if values is None:
         return None
@@ -201,6 +213,84 @@ def model_error_floor(spec, key: str = "model_error_std") -> np.ndarray | None:
         raise WindEstimationError(f"{spec}: [calibration] {key} = {values!r}: "
                                   "expected 6 numbers >= 0 (one per channel)")
     return floor
+
+
+STILL_AIR_KEY = "still_air_wind_error"
+STILL_AIR_MODES = ("smoother", "anchored")
+
+
+def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict:
+    """What the smoother's intervals miss on a still-air flight, where the whole 6-D wind
+    is known to be zero: `[calibration.still_air_wind_error]`, written by `airwake
+    calibrate` and `airwake model add` on the flight the model was fitted on.
+
+    Model error is not only a channel-noise floor and a steady offset (both in the
+    posterior already): a misfit coloured at the wind's time scales reads as turbulence
+    through the model's sensitivities, and where the model's sensitivity to a component
+    is not the airframe's (the rotation's, on a teetering head it does not hold), the
+    posterior claims information the flight does not carry. On still air that misfit is
+    the whole estimate. Per component, the RMS of the estimate beyond the posterior's
+    own std, sqrt(max(0, mean(e^2) - mean(std^2))) after `SCORE_BURN_IN_S`, joins the std
+    of every later estimate in quadrature (`estimate_wind`; the estimate itself does not
+    change). Measured twice, as the estimate is made: "smoother" (the plain smoother)
+    and "anchored" (the mean flow anchored on the still air's zero, known to the INS's
+    velocity error). `calibration`: the model's [calibration] table (its
+    `model_error_std` / `model_error_offset` apply, its old `still_air_wind_error` not).
+    Returns {"smoother": [6], "anchored": [6]}; WindEstimationError where the smoother
+    cannot run on the flight."""
+    import pandas as pd
+
+    from airwake.calibrate import load_flight
+
+    table = {k: v for k, v in (calibration or {}).items() if k != STILL_AIR_KEY}
+    ft = load_flight(flight)
+    plain = estimate_wind(ft, model=model, calibration=table)
+    t = np.asarray(plain.df["t_s"], float)
+    # still air: the mean flow is zero, as well as the INS knows the helicopter's
+    # velocity (the smoother adds that error itself; a std must be > 0)
+    ins = max(float(plain.metadata["ins_velocity_std_m_s"]), 1e-3)
+    zero = pd.DataFrame({"t_s": t, **{n: np.zeros_like(t) for n in WIND_NAMES[:3]},
+                         **{f"{n}_std": np.full_like(t, ins) for n in WIND_NAMES[:3]}})
+    anchored = estimate_wind(ft, model=model, calibration=table, anchor=zero)
+    return {"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)}
+
+
+def excess_error(wind_df, truth=None, burn_in_s: float | None = None) -> list[float]:
+    """(6,) per component, the estimate's error RMS beyond its posterior std:
+    sqrt(max(0, mean(e^2) - mean(std^2))) over the samples after `burn_in_s` (default
+    `SCORE_BURN_IN_S`) where both are finite; e = estimate - truth (zero: still air)."""
+    burn = SCORE_BURN_IN_S if burn_in_s is None else float(burn_in_s)
+    t = np.asarray(wind_df["t_s"], float)
+    keep = t >= t[0] + burn if t.size else np.zeros(0, bool)
+    out = []
+    for j, name in enumerate(WIND_NAMES):
+        e = np.asarray(wind_df[name], float)[keep]
+        if truth is not None:
+            e = e - np.asarray(truth, float)[keep, j]
+        s = np.asarray(wind_df[f"{name}_std"], float)[keep]
+        ok = np.isfinite(e) & np.isfinite(s)
+        if not ok.any():
+            out.append(0.0)
+            continue
+        out.append(float(np.sqrt(max(np.mean(e[ok] ** 2) - np.mean(s[ok] ** 2), 0.0))))
+    return out
+
+
+def _still_air_excess(spec, cal: dict | None, anchored: bool) -> np.ndarray | None:
+    """(6,) the spec's `still_air_wind_error` for the estimate being made (anchored or
+    not), or None for a spec without it."""
+    entry = (cal or {}).get(STILL_AIR_KEY)
+    if entry is None:
+        return None
+    mode = STILL_AIR_MODES[1] if anchored else STILL_AIR_MODES[0]
+    values = entry.get(mode) if isinstance(entry, dict) else None
+    g = np.asarray(values if values is not None else [], dtype=float)
+    if g.shape != (6,) or np.any(~np.isfinite(g)) or np.any(g < 0):
+        from airwake.estimate.errors import WindEstimationError
+
+        raise WindEstimationError(f"{spec}: [calibration.{STILL_AIR_KEY}] {mode} = "
+                                  f"{values!r}: expected 6 numbers >= 0 (one per component)")
+    return g
 
 
 def envelope_check(spec, data, heli, df) -> dict | None:
@@ -551,7 +641,7 @@ def truth_at(wind_df, flight_df) -> np.ndarray:
 COVERAGE_Z90 = 1.6448536269514722  # two-sided 90 % interval of a normal: +-1.645 std
 
 
-def score_wind(wind_df, flight_df, burn_in_s: float = 2.0) -> dict:
+def score_wind(wind_df, flight_df, burn_in_s: float = SCORE_BURN_IN_S) -> dict:
     """Error (estimate - truth) per component after `burn_in_s`: mean, std, RMS, the
     correlation of estimate and truth, the mean posterior std and how often the 90 %
     interval (mean +- 1.645 std) holds the truth, next to Table 5.3. Raises
