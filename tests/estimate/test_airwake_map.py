@@ -194,3 +194,32 @@ def test_a_flight_csv_without_positions_is_one_line_naming_it(ship_wind, tmp_pat
                  str(tmp_path / "m")]) == 2
     err = capsys.readouterr().err
     assert "no position columns" in err and not (tmp_path / "m").exists()
+
+
+def test_the_models_still_air_error_is_no_turbulence_and_does_not_average_out():
+    # the same estimates, once with std 0.1 and once with a still-air error g joined to it
+    # (as `estimate_wind` joins a spec's still_air_wind_error): the turbulence is the same,
+    # the cell mean's std holds all of g
+    fl = _ship_flight()
+    t = fl["t_s"].to_numpy()
+    rng = np.random.default_rng(3)
+    base = _wind(t, (1.0, 0.2, 0.1), (0.05, 0.0, 0.1))
+    base["wind_vx_m_s"] += rng.normal(0.0, 0.3, t.size)
+    g = np.array([0.6, 0.0, 0.1, 0.0, 0.4, 0.2])
+    wider = base.copy()
+    for j, n in enumerate(WIND_NAMES):
+        wider[f"{n}_std"] = np.hypot(base[f"{n}_std"], g[j])
+    plain = build_map(base, fl, wind_meta={"ins_velocity_std_m_s": 0.0}).cells
+    with_g = build_map(wider, fl, wind_meta={"ins_velocity_std_m_s": 0.0,
+                                             "still_air_wind_error": g.tolist()}).cells
+    for c in ("sigma_u_m_s", "sigma_v_m_s", "sigma_w_m_s", "ti", "u_m_s", "wz_rad_s"):
+        np.testing.assert_allclose(with_g[c], plain[c], rtol=1e-9)
+    # the yaw turns body x into the ship's x and y: g's v_x part lands in u and v
+    grown = with_g["u_std_m_s"] ** 2 + with_g["v_std_m_s"] ** 2 - (
+        plain["u_std_m_s"] ** 2 + plain["v_std_m_s"] ** 2)
+    np.testing.assert_allclose(grown, g[0] ** 2 + g[1] ** 2, rtol=1e-9)
+    np.testing.assert_allclose(with_g["wz_std_rad_s"] ** 2 - plain["wz_std_rad_s"] ** 2,
+                               g[5] ** 2, rtol=1e-9)
+    # read as turbulence, the same table would have raised the turbulence intensity
+    naive = build_map(wider, fl, wind_meta={"ins_velocity_std_m_s": 0.0}).cells
+    assert (naive["ti"] > plain["ti"] * 1.2).all()

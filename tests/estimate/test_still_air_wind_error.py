@@ -91,10 +91,33 @@ def test_the_std_grows_by_exactly_the_still_air_error_and_the_estimate_not(
                                        np.hypot(before.df[f"{n}_std"], g[j]), rtol=1e-12)
 
 
+def test_an_anchor_gap_takes_the_plain_entry(tiny_wind_file, tmp_path):
+    plain_g = [0.3, 0.2, 0.1, 0.2, 0.05, 0.4]
+    anchored_g = [0.0, 0.0, 0.0, 0.5, 0.25, 0.15]
+    spec = spec_with(tmp_path / "g.toml", {"smoother": plain_g, "anchored": anchored_g})
+    bare = tmp_path / "bare.toml"
+    save_spec(load_model("table52"), bare, description="test", calibration={"flight": "x"})
+    anchor = estimate_wind(tiny_wind_file, bare, em_passes=1).df.copy()
+    t = anchor["t_s"].to_numpy()
+    hole = (t > t[0] + 0.6) & (t < t[0] + 1.2)
+    anchor.loc[hole, "wind_vx_m_s"] = np.nan
+    before = estimate_wind(tiny_wind_file, bare, em_passes=1, anchor=anchor)
+    after = estimate_wind(tiny_wind_file, spec, em_passes=1, anchor=anchor)
+    gap = np.isin(after.df["t_s"].to_numpy(), t[hole])
+    assert gap.sum() > 5 and after.metadata["still_air_wind_error_plain_rows"] == gap.sum()
+    for j, n in enumerate(WIND_NAMES):
+        want = np.hypot(before.df[f"{n}_std"], np.where(gap, plain_g[j], anchored_g[j]))
+        np.testing.assert_allclose(after.df[f"{n}_std"], want, rtol=1e-12)
+
+
 def test_a_bad_still_air_table_is_refused_naming_it(tiny_wind_file, tmp_path):
     spec = spec_with(tmp_path / "bad.toml", {"smoother": [0.1, 0.2, 0.3],
                                              "anchored": [0.0] * 6})
-    with pytest.raises(WindEstimationError, match=r"still_air_wind_error\] smoother"):
+    with pytest.raises(WindEstimationError, match=r"bad\.toml: \[calibration\.still_air_"
+                       r"wind_error\] smoother = \[0\.1, 0\.2, 0\.3\]"):
+        estimate_wind(tiny_wind_file, spec, em_passes=1)
+    spec = spec_with(tmp_path / "flat.toml", [0.1] * 6)
+    with pytest.raises(WindEstimationError, match="flat.toml.*expected a table"):
         estimate_wind(tiny_wind_file, spec, em_passes=1)
     spec = spec_with(tmp_path / "neg.toml", {"smoother": [0.1] * 6,
                                              "anchored": [0.1, -0.2, 0, 0, 0, 0]})
@@ -114,8 +137,9 @@ def test_calibrate_writes_what_its_estimate_misses_on_the_flight(tiny_wind_file,
     assert set(written) == {"smoother", "anchored"}
     for v in written.values():
         assert len(v) == 6 and all(x >= 0 for x in v)
-    # the same measurement again, from the spec as written (its own entry left out)
-    again = still_air_wind_error(out, tiny_wind_file, cal)
+    # the same measurement again, from the spec as written (its own entry left out; with
+    # no table given, the spec's own: its model_error_std and _offset apply)
+    again = still_air_wind_error(out, tiny_wind_file)
     np.testing.assert_allclose(again["smoother"], written["smoother"], rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(again["anchored"], written["anchored"], rtol=1e-9, atol=1e-12)
     # this flight is not still air (its wind is the error): the plain estimate's excess

@@ -97,9 +97,11 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     the new model on the still-air flight it was fitted on (what the wind estimator takes
     as its channel-noise floor, its steady-offset allowance and its intervals' still-air
     error: those of the model it runs, not of the model before the effect). With a windy
-    flight and its
-    wind as input the floor is not re-measured: the start spec's is kept (it can only be
-    larger), or none is written. `flight_name`: the flight as the report names it."""
+    flight and its wind as input nothing is re-measured: the start spec's floor is kept
+    (it can only be larger), and so is its still-air wind error, which was measured for
+    the model before the effect (the calibration flight is not at hand here; an effect
+    that lowers the misfit lowers it, so it errs wide); or none is written.
+    `flight_name`: the flight as the report names it."""
     from airwake.calibrate import CalibrationError, model_error
     from airwake.calibrate.commands import add_still_air_wind_error
     from airwake.heli import spec_calibration

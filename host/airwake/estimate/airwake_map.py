@@ -73,7 +73,10 @@ FLIGHT_COLUMNS = (*ATTITUDE, *SHIP_POSITION, *SITE_POSITION, *SHIP_MOTION, "hub_
 class MapSamples:
     """Per wind-table sample (n): t (n,), pos (n, 3) in the map frame, flow (n, 3)
     relative flow, flow_std (n, 3), rot (n, 3) rotation, rot_std (n, 3); frame "ship" or
-    "site"; ins_std (m/s) inside flow_std; dt (s) per sample; u_ref (m/s)."""
+    "site"; ins_std (m/s) inside flow_std; dt (s) per sample; u_ref (m/s); flow_steady and
+    rot_steady (n, 3): the std the wind table's intervals carry for the model's still-air
+    error (its metadata's `still_air_wind_error`, turned the same way), taken out of
+    flow_std and rot_std: a model error, neither turbulence nor fast error."""
 
     t: np.ndarray
     pos: np.ndarray
@@ -85,6 +88,14 @@ class MapSamples:
     ins_std: float
     dt: float
     u_ref: float
+    flow_steady: np.ndarray = None
+    rot_steady: np.ndarray = None
+
+    def __post_init__(self) -> None:
+        if self.flow_steady is None:
+            self.flow_steady = np.zeros_like(self.flow_std)
+        if self.rot_steady is None:
+            self.rot_steady = np.zeros_like(self.rot_std)
 
 
 def _rz(psi: np.ndarray) -> np.ndarray:
@@ -150,9 +161,11 @@ def map_frame(flight_df) -> str:
 
 
 def map_samples(wind_df, flight_df, ins_std: float = 0.05,
-                u_ref: float | None = None) -> MapSamples:
+                u_ref: float | None = None, excess=None) -> MapSamples:
     """The wind table's samples placed and turned into the map frame (module docstring).
-    Flight columns are interpolated at the wind table's times."""
+    Flight columns are interpolated at the wind table's times. `excess`: the model's
+    still-air error (6,) inside the table's std (its metadata's `still_air_wind_error`;
+    None: none), kept apart as flow_steady / rot_steady."""
     frame = map_frame(flight_df)
     need = [*ATTITUDE, *(SHIP_POSITION if frame == "ship" else SITE_POSITION)]
     if frame == "ship":
@@ -207,16 +220,23 @@ def map_samples(wind_df, flight_df, ins_std: float = 0.05,
     else:
         pos = np.column_stack([at(c) for c in SITE_POSITION])
         flow, rot, full = v_ned, w_ned, rot_b
+    # the model's still-air error in the std (`estimate.wind.still_air_wind_error`): kept
+    # apart, it is no turbulence and does not average out over a cell
+    g = np.zeros(6) if excess is None else np.asarray(excess, float).reshape(6)
+    s_v = np.sqrt(np.maximum(s_v**2 - g[:3] ** 2, 0.0))
+    s_w = np.sqrt(np.maximum(s_w**2 - g[3:] ** 2, 0.0))
     # std of a rotated vector: Var_i = sum_j R_ij^2 Var_j (components taken independent)
     flow_std = np.sqrt(np.einsum("nij,nj->ni", full**2, s_v**2))
     rot_std = np.sqrt(np.einsum("nij,nj->ni", full**2, s_w**2))
+    flow_steady = np.sqrt(np.einsum("nij,j->ni", full**2, g[:3] ** 2))
+    rot_steady = np.sqrt(np.einsum("nij,j->ni", full**2, g[3:] ** 2))
     dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
     if u_ref is None:
         u_ref = float(np.mean(np.linalg.norm(flow, axis=1))) if t.size else float("nan")
     if not (np.isfinite(u_ref) and u_ref > 0):
         raise WindEstimationError(f"reference speed {u_ref!r}: must be a positive number")
     return MapSamples(t, pos, flow, flow_std, rot, rot_std, frame, float(ins_std), dt,
-                      float(u_ref))
+                      float(u_ref), flow_steady, rot_steady)
 
 
 def cell_index(pos: np.ndarray, cell_m: float, layer_m: float) -> np.ndarray:
@@ -252,10 +272,11 @@ def grid_samples(s: MapSamples, cell_m: float = CELL_M, layer_m: float = LAYER_M
         m = s.flow[sel]
         pv = np.maximum(s.flow_std[sel] ** 2 - ins2, 0.0)
         mean = m.mean(0)
-        std_mean = np.sqrt(ins2 + pv.mean(0) * frac)
+        std_mean = np.sqrt(ins2 + (s.flow_steady[sel] ** 2).mean(0) + pv.mean(0) * frac)
         sig2 = m.var(0) + pv.mean(0)
         mr = s.rot[sel]
         pr = s.rot_std[sel] ** 2
+        pr_steady = (s.rot_steady[sel] ** 2).mean(0)
         ti = math.sqrt(float(np.mean(sig2))) / s.u_ref
         centre = (key + 0.5) * np.array([cell_m, cell_m, layer_m])
         row = {"ix": int(key[0]), "iy": int(key[1]), "iz": int(key[2]),
@@ -266,7 +287,8 @@ def grid_samples(s: MapSamples, cell_m: float = CELL_M, layer_m: float = LAYER_M
             row[f"{name[:-4]}_std_m_s"] = float(std_mean[j])
         for j, name in enumerate(ROT_NAMES):
             row[name] = float(mr[:, j].mean())
-            row[f"{name[:-6]}_std_rad_s"] = float(math.sqrt(pr[:, j].mean() * frac))
+            row[f"{name[:-6]}_std_rad_s"] = float(math.sqrt(pr[:, j].mean() * frac
+                                                            + pr_steady[j]))
         for j, name in enumerate(("sigma_u_m_s", "sigma_v_m_s", "sigma_w_m_s")):
             row[name] = float(math.sqrt(sig2[j]))
         row["ti"] = ti
@@ -343,7 +365,8 @@ def build_map(wind_df, flight_df, *, wind_meta: dict | None = None, cell_m: floa
     wind_meta = wind_meta or {}
     if ins_std is None:
         ins_std = float(wind_meta.get("ins_velocity_std_m_s", 0.05))
-    s = map_samples(wind_df, flight_df, ins_std, u_ref)
+    s = map_samples(wind_df, flight_df, ins_std, u_ref,
+                    excess=wind_meta.get("still_air_wind_error"))
     cells = grid_samples(s, cell_m, layer_m, min_seconds)
     if len(cells) == 0:
         raise WindEstimationError(

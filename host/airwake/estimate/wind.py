@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -169,16 +170,25 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
             # the flight's own sensor bias and the model's steady misfit, independent
             offset = np.zeros(6) if offset is None else offset.copy()
             offset[:3] = np.hypot(offset[:3], accel_bias_std)
+        # (read before the run: a bad table costs no run)
+        plain_g = _still_air_excess(model, cal, anchored=False)
+        anchored_g = _still_air_excess(model, cal, anchored=True)
         df, extra, seconds, smoother, result = _run_smoother(
             heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
             airspeed_m_s, ins_velocity_std, progress, floor, offset, anchor)
         if anchor is not None:
             meta["anchor"] = str(anchor) if not hasattr(anchor, "columns") else "<table>"
-        excess = _still_air_excess(model, cal, anchored=anchor is not None)
-        meta["still_air_wind_error"] = None if excess is None else excess.tolist()
+        excess = anchored_g if anchor is not None else plain_g
+        meta[STILL_AIR_KEY] = None if excess is None else excess.tolist()
         if excess is not None:
-            for name, g in zip(WIND_NAMES, excess, strict=True):
-                df[f"{name}_std"] = np.hypot(df[f"{name}_std"].to_numpy(), g)
+            g = np.broadcast_to(excess, (len(df), 6))
+            if anchor is not None:
+                # where the anchor has a gap the estimate there is the plain smoother's
+                gap = ~smoother.anchor[2]
+                g = np.where(gap[:, None], plain_g, excess)
+                meta["still_air_wind_error_plain_rows"] = int(gap.sum())
+            for j, name in enumerate(WIND_NAMES):
+                df[f"{name}_std"] = np.hypot(df[f"{name}_std"].to_numpy(), g[:, j])
     else:
         df, extra, seconds = _run_apf(
             heli, data, cutoff,
@@ -234,15 +244,19 @@ def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict
     of every later estimate in quadrature (`estimate_wind`; the estimate itself does not
     change). Measured twice, as the estimate is made: "smoother" (the plain smoother)
     and "anchored" (the mean flow anchored on the still air's zero, known to the INS's
-    velocity error). `calibration`: the model's [calibration] table (its
-    `model_error_std` / `model_error_offset` apply, its old `still_air_wind_error` not).
+    velocity error). `calibration`: the model's [calibration] table (None: the spec's own);
+    its `model_error_std` / `model_error_offset` apply, its old `still_air_wind_error` not.
+    The estimator runs with its default settings (front end, EM passes).
     Returns {"smoother": [6], "anchored": [6]}; WindEstimationError where the smoother
     cannot run on the flight."""
     import pandas as pd
 
     from airwake.calibrate import load_flight
+    from airwake.heli import spec_calibration
 
-    table = {k: v for k, v in (calibration or {}).items() if k != STILL_AIR_KEY}
+    if calibration is None:
+        calibration = spec_calibration(model) or {}
+    table = {k: v for k, v in calibration.items() if k != STILL_AIR_KEY}
     ft = load_flight(flight)
     plain = estimate_wind(ft, model=model, calibration=table)
     t = np.asarray(plain.df["t_s"], float)
@@ -279,16 +293,23 @@ def excess_error(wind_df, truth=None, burn_in_s: float | None = None) -> list[fl
 def _still_air_excess(spec, cal: dict | None, anchored: bool) -> np.ndarray | None:
     """(6,) the spec's `still_air_wind_error` for the estimate being made (anchored or
     not), or None for a spec without it."""
+    from airwake.estimate.errors import WindEstimationError
+
     entry = (cal or {}).get(STILL_AIR_KEY)
     if entry is None:
         return None
+    where = str(spec) if isinstance(spec, (str, Path)) else "the model's [calibration]"
+    if not isinstance(entry, dict):
+        raise WindEstimationError(f"{where}: [calibration] {STILL_AIR_KEY} = {entry!r}: "
+                                  f"expected a table with {' and '.join(STILL_AIR_MODES)}")
     mode = STILL_AIR_MODES[1] if anchored else STILL_AIR_MODES[0]
-    values = entry.get(mode) if isinstance(entry, dict) else None
-    g = np.asarray(values if values is not None else [], dtype=float)
+    values = entry.get(mode)
+    try:
+        g = np.asarray(values if values is not None else [], dtype=float)
+    except (TypeError, ValueError):
+        g = np.zeros(0)
     if g.shape != (6,) or np.any(~np.isfinite(g)) or np.any(g < 0):
-        from airwake.estimate.errors import WindEstimationError
-
-        raise WindEstimationError(f"{spec}: [calibration.{STILL_AIR_KEY}] {mode} = "
+        raise WindEstimationError(f"{where}: [calibration.{STILL_AIR_KEY}] {mode} = "
                                   f"{values!r}: expected 6 numbers >= 0 (one per component)")
     return g
 
