@@ -216,13 +216,21 @@ def model_error_floor(spec, key: str = "model_error_std",
     values = cal.get(key)
     if values is None:
         return None
-    floor = np.asarray(values, dtype=float)
-    if floor.shape != (6,) or np.any(~np.isfinite(floor)) or np.any(floor < 0):
+    return _six_at_least_zero(values, f"{spec}: [calibration] {key}", "channel")
+
+
+def _six_at_least_zero(values, where: str, per: str) -> np.ndarray:
+    """(6,) `values` as floats, or WindEstimationError naming `where` and the values."""
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        a = np.zeros(0)
+    if a.shape != (6,) or np.any(~np.isfinite(a)) or np.any(a < 0):
         from airwake.estimate.errors import WindEstimationError
 
-        raise WindEstimationError(f"{spec}: [calibration] {key} = {values!r}: "
-                                  "expected 6 numbers >= 0 (one per channel)")
-    return floor
+        raise WindEstimationError(f"{where} = {values!r}: expected 6 numbers >= 0 (one per "
+                                  f"{per})")
+    return a
 
 
 STILL_AIR_KEY = "still_air_wind_error"
@@ -303,15 +311,8 @@ def _still_air_excess(spec, cal: dict | None, anchored: bool) -> np.ndarray | No
         raise WindEstimationError(f"{where}: [calibration] {STILL_AIR_KEY} = {entry!r}: "
                                   f"expected a table with {' and '.join(STILL_AIR_MODES)}")
     mode = STILL_AIR_MODES[1] if anchored else STILL_AIR_MODES[0]
-    values = entry.get(mode)
-    try:
-        g = np.asarray(values if values is not None else [], dtype=float)
-    except (TypeError, ValueError):
-        g = np.zeros(0)
-    if g.shape != (6,) or np.any(~np.isfinite(g)) or np.any(g < 0):
-        raise WindEstimationError(f"{where}: [calibration.{STILL_AIR_KEY}] {mode} = "
-                                  f"{values!r}: expected 6 numbers >= 0 (one per component)")
-    return g
+    return _six_at_least_zero(entry.get(mode), f"{where}: [calibration.{STILL_AIR_KEY}] "
+                              f"{mode}", "component")
 
 
 def envelope_check(spec, data, heli, df) -> dict | None:
