@@ -221,7 +221,8 @@ def map_samples(wind_df, flight_df, ins_std: float = 0.05,
         pos = np.column_stack([at(c) for c in SITE_POSITION])
         flow, rot, full = v_ned, w_ned, rot_b
     # the model's still-air error in the std (`estimate.wind.still_air_wind_error`): kept
-    # apart, it is no turbulence and does not average out over a cell
+    # apart, it is no turbulence and does not average out over a cell (an anchored table's
+    # gap rows carry the plain entry, of which the part above this one stays in the std)
     g = np.zeros(6) if excess is None else np.asarray(excess, float).reshape(6)
     s_v = np.sqrt(np.maximum(s_v**2 - g[:3] ** 2, 0.0))
     s_w = np.sqrt(np.maximum(s_w**2 - g[3:] ** 2, 0.0))
