@@ -65,7 +65,8 @@ def _handle(args: argparse.Namespace) -> int:
         sigma=args.sigma, resampler=args.resampler, ess_threshold=args.ess_threshold,
         jitter=args.jitter, seed=args.seed, process_std=args.process_std,
         channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress,
-        net=args.net, interval_model=args.interval_model, anchor=args.anchor)
+        net=args.net, interval_model=args.interval_model, anchor=args.anchor,
+        rotation_from_mean_flow=args.rotation_sigma != "learned")
     write_wind(est, args.out)
     report = {"out": str(args.out), "method": args.method, "samples": int(len(est.df)),
               "seconds": est.seconds, "realtime_factor": est.metadata["realtime_factor"]}
@@ -209,6 +210,10 @@ def register(subparsers) -> None:
                    help="estimator sample rate after the low-pass (15 Hz smoother, 30 Hz apf)")
     p.add_argument("--em-passes", type=int, default=None,
                    help="smoother passes (3: 2 relinearising; the prior re-learnt after each)")
+    p.add_argument("--rotation-sigma", choices=("from-mean-flow", "learned"),
+                   default="from-mean-flow",
+                   help="smoother: the turbulence std of w_x, w_y set from the mean flow's "
+                   "learned one (default; docs/wind-estimation.md) or learned on its own")
     p.add_argument("--airspeed-m-s", type=float, default=None,
                    help="typical airspeed for the prior's correlation times (3 m/s)")
     p.add_argument("--ins-velocity-std", type=float, default=None,

@@ -50,6 +50,18 @@ the correlation time tau staying the prior's (physics, `wind_prior`):
 so sigma is the flow's own statistic as the measurements reveal it, and the channel noise
 the model's actual misfit after the front end (model error included), not a guess. Each
 continuous run of the flight is estimated on its own.
+
+Where the flight hardly informs a component, EM hardly moves its sigma: on the
+blade-element ship flights the two updates of the default passes leave sigma of the
+rotation about the horizontal axes (w_x, w_y) at 0.48-0.51 1/s from its start of 0.5,
+against the truth's spread of 0.13-0.20, while w_z's goes to 0.26-0.29 and the anchored
+mean flow's to 0.21-0.32 m/s. So w_x and w_y do not keep the start: after each update
+their sigma is the one the turbulence's structure gives for the mean flow's learned
+sigma (`WindPrior.rotation_sigma`: the velocity difference across the rotor radius in
+frozen isotropic turbulence, over the radius; learn item "rotation_from_mean_flow", on
+by default; their error std fell from 0.16-0.31 to 0.11-0.22 1/s there, anchored,
+docs/wind-estimation.md). w_z keeps its own EM update: the tail rotor and the fuselage's
+yaw read it.
 """
 
 from __future__ import annotations
@@ -72,7 +84,10 @@ from airwake.estimate.wind_prior import WindPrior
 
 ITERATIONS = 3
 RELINEARISE = 2
-LEARN = ("sigma", "noise")
+LEARN = ("sigma", "noise", "rotation_from_mean_flow")
+# the rotation components whose sigma follows the mean flow's (`WindPrior.rotation_sigma`):
+# about the horizontal axes, which the flight hardly informs (module docstring)
+TIED_ROTATION = (3, 4)
 SIGMA_FLOOR = np.array([0.02, 0.02, 0.02, 0.01, 0.01, 0.01])
 MEAN_WALK_FLOOR = 1e-3
 NOISE_FLOOR = 1e-4
@@ -276,7 +291,9 @@ class WindSmoother:
     model: HeliModel; pre: Prefiltered flight; prior: WindPrior (the start; a copy is
     learned); noise_std: (6,) channel noise to start from (default: 5 % of each filtered
     channel's std, floored at 0.01); iterations: passes; relinearise: how many of them
-    relinearise the model; learn: which of "sigma", "noise" the EM updates; noise_floor:
+    relinearise the model; learn: which of "sigma", "noise" the EM updates, and
+    "rotation_from_mean_flow" (with "sigma") w_x's and w_y's sigma from the mean flow's
+    (module docstring); noise_floor:
     (6,) the least channel noise the EM may learn — the model's own error on its still-air
     calibration flight (`[calibration] model_error_std`), so that a misfit the model
     already has in still air is not explained as wind (None: NOISE_FLOOR only);
@@ -635,6 +652,10 @@ class WindSmoother:
             a = np.exp(-dt / prior.tau_s)  # tau from physics (wind_prior), sigma learned
             q = np.maximum((s11 - 2.0 * a * s10 + a * a * s00) / pairs, 0.0)
             new.sigma = np.maximum(np.sqrt(q / (1.0 - a * a)), SIGMA_FLOOR)
+            if "rotation_from_mean_flow" in self.learn:
+                tied = list(TIED_ROTATION)
+                new.sigma[tied] = np.maximum(new.rotation_sigma()[[i - 3 for i in tied]],
+                                             SIGMA_FLOOR[tied])
         new_r = r_diag
         if "noise" in self.learn and count > 0:
             new_r = np.maximum(res2 / count, self.noise_floor**2)

@@ -74,7 +74,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   jitter: float = 0.2, seed: int = 0, process_std=None, init_half_width=None,
                   channel_scale=None, steps: int | None = None,
                   progress: bool = False, net=None, interval_model=None,
-                  anchor=None, calibration: dict | None = None) -> WindEstimate:
+                  anchor=None, calibration: dict | None = None,
+                  rotation_from_mean_flow: bool = True) -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -99,7 +100,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     flow (`WindSmoother`'s `anchor`).
     calibration (smoother): the [calibration] table to read instead of the spec's (the
     one `airwake calibrate` is about to write); the spec's `still_air_wind_error` joins
-    the std (`still_air_wind_error` below)."""
+    the std (`still_air_wind_error` below).
+    rotation_from_mean_flow (smoother): the EM sets the turbulence std of w_x and w_y from
+    the mean flow's (`airwake.estimate.smoother`); False learns it as the others."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -124,6 +127,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     if (method == "net") != (net is not None):
         raise WindEstimationError("--method net needs --net WIND.pt (and --net needs "
                                   "--method net)")
+    if not rotation_from_mean_flow and method != "smoother":
+        raise WindEstimationError("--rotation-sigma learned sets the smoother's prior: it is "
+                                  f"for --method smoother, not {method}")
     if anchor is not None and method != "smoother":
         raise WindEstimationError(f"--anchor is for --method smoother, not {method}")
     if interval_model is not None and method != "net":
@@ -175,7 +181,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         anchored_g = _still_air_excess(model, cal, anchored=True)
         df, extra, seconds, smoother, result = _run_smoother(
             heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
-            airspeed_m_s, ins_velocity_std, progress, floor, offset, anchor)
+            airspeed_m_s, ins_velocity_std, progress, floor, offset, anchor,
+            rotation_from_mean_flow)
         if anchor is not None:
             meta["anchor"] = str(anchor) if not hasattr(anchor, "columns") else "<table>"
         excess = anchored_g if anchor is not None else plain_g
@@ -254,7 +261,11 @@ def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict
     and "anchored" (the mean flow anchored on the still air's zero, known to the INS's
     velocity error). `calibration`: the model's [calibration] table (None: the spec's own);
     its `model_error_std` / `model_error_offset` apply, its old `still_air_wind_error` not.
-    The estimator runs with its default settings (front end, EM passes).
+    The estimator runs with its default settings (front end, EM passes) but one: the
+    rotation's turbulence std is learned on its own, not from the mean flow's
+    (`rotation_from_mean_flow=False`), which in still air would be near zero and hide the
+    misfit the model reads as rotation (on the bench model, anchored: w_x / w_y 0.12 /
+    0.35 1/s free, 0 / 0 tied, while at sea its w_y bias is -0.2 ... -0.5).
     Returns {"smoother": [6], "anchored": [6]}; WindEstimationError where the smoother
     cannot run on the flight."""
     import pandas as pd
@@ -266,14 +277,15 @@ def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict
         calibration = spec_calibration(model) or {}
     table = {k: v for k, v in calibration.items() if k != STILL_AIR_KEY}
     ft = load_flight(flight)
-    plain = estimate_wind(ft, model=model, calibration=table)
+    plain = estimate_wind(ft, model=model, calibration=table, rotation_from_mean_flow=False)
     t = np.asarray(plain.df["t_s"], float)
     # still air: the mean flow is zero, as well as the INS knows the helicopter's
     # velocity (the smoother adds that error itself; a std must be > 0)
     ins = max(float(plain.metadata["ins_velocity_std_m_s"]), 1e-3)
     zero = pd.DataFrame({"t_s": t, **{n: np.zeros_like(t) for n in WIND_NAMES[:3]},
                          **{f"{n}_std": np.full_like(t, ins) for n in WIND_NAMES[:3]}})
-    anchored = estimate_wind(ft, model=model, calibration=table, anchor=zero)
+    anchored = estimate_wind(ft, model=model, calibration=table, anchor=zero,
+                             rotation_from_mean_flow=False)
     return {"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)}
 
 
@@ -389,10 +401,11 @@ def _anchor_at(anchor, t: np.ndarray, ins_velocity_std: float):
 
 
 def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
-                  progress, noise_floor=None, offset_std=None, anchor=None):
+                  progress, noise_floor=None, offset_std=None, anchor=None,
+                  rotation_from_mean_flow=True):
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.prefilter import prefilter
-    from airwake.estimate.smoother import ITERATIONS, WindSmoother
+    from airwake.estimate.smoother import ITERATIONS, LEARN, WindSmoother
     from airwake.estimate.wind_prior import AIRSPEED_M_S, WindPrior
     from airwake.progress import Progress
 
@@ -407,8 +420,10 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
     if anchor is not None:
         anchor = _anchor_at(anchor, pre.data.t, ins_velocity_std)
     try:
+        learn = LEARN if rotation_from_mean_flow else tuple(
+            x for x in LEARN if x != "rotation_from_mean_flow")
         sm = WindSmoother(heli, pre, prior, iterations=passes, noise_floor=noise_floor,
-                          anchor=anchor)
+                          anchor=anchor, learn=learn)
     except MODEL_FAILURES as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
@@ -459,6 +474,7 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
         "prior": res.prior.to_dict(),
         "noise_std": res.noise_std.tolist(),
         "passes": passes,
+        "learn": list(learn),
         "history": res.history,
         "model_rows_evaluated": int(res.evaluations),
         "offset_std": None if offset_part is None else forces.tolist(),

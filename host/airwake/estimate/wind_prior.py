@@ -116,6 +116,24 @@ class WindPrior:
         out.source = {**out.source, "sigma": "fitted to a wind trajectory"}
         return out
 
+    def rotation_sigma(self, mean_flow_sigma=None) -> np.ndarray:
+        """(3,) the rotation's turbulence std (1/s) that goes with a mean-flow std (3,)
+        (default: this prior's), for frozen isotropic turbulence whose correlation falls as
+        exp(-r / L) (module docstring; L = the integral scale of the mean-flow tau rule,
+        2 diameters): the velocity differs across the rotor radius R by
+        sigma_v sqrt(2 (1 - exp(-R / L))) (the structure function at r = R), and a rotation
+        omega moves the air at R by omega R, so sigma_omega = that difference / R, with
+        sigma_v the RMS of the three mean-flow components (isotropy)."""
+        r = float(self.source.get("rotor_radius_m", float("nan")))
+        u = float(self.source.get("airspeed_m_s", float("nan")))
+        if not (np.isfinite(r) and r > 0 and np.isfinite(u) and u > 0):
+            raise ValueError("rotation_sigma needs a prior made by from_physics (its rotor "
+                             "radius and airspeed)")
+        sv = self.sigma[:3] if mean_flow_sigma is None else np.asarray(mean_flow_sigma, float)
+        scale = float(self.tau_s[0]) * u  # the mean flow's integral scale L = tau U
+        diff = float(np.sqrt(np.mean(sv**2))) * np.sqrt(2.0 * (1.0 - np.exp(-r / scale)))
+        return np.full(3, diff / r)
+
     # -- the linear SDE of the 12 wind states [mu (6), xi (6)] --------------------------
     def drift_matrix(self) -> np.ndarray:
         """(12, 12): d[mu, xi]/dt = F [mu, xi] + noise."""
