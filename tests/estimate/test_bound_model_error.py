@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from airwake.estimate.smoother import ChannelNoise
+from airwake.estimate.smoother import ChannelNoise, VectorNoise
 from airwake.estimate.wind import estimate_wind, score_bound, score_wind, wind_bound
 from airwake.estimate.wind_prior import WindPrior
 from hypothesis import assume, given, settings
@@ -39,6 +39,61 @@ def test_the_channel_noise_fit_recovers_a_stable_ar_process(a1, a2, seed):
     # the companion form's stationary variance is the process's
     cov = fit.stationary_covariance()
     assert cov.shape == (12, 12) and np.all(np.linalg.eigvalsh(cov) > 0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(1, 12), st.integers(0, 10_000))
+def test_levinson_gives_every_orders_yule_walker_solution(top, seed):
+    from airwake.estimate.smoother import _levinson
+    from scipy.linalg import solve_toeplitz
+
+    x = np.random.default_rng(seed).normal(size=400).cumsum() * 0.1
+    x = x - x.mean()
+    r = np.array([np.mean(x[:x.size - k] * x[k:]) for k in range(top + 1)])
+    fits = _levinson(r)
+    assert len(fits) == top + 1 and fits[0][1] == pytest.approx(r[0])
+    for p in range(1, top + 1):
+        a = solve_toeplitz(r[:p], r[1:p + 1])
+        np.testing.assert_allclose(fits[p][0], a, rtol=1e-6, atol=1e-9)
+        assert fits[p][1] == pytest.approx(r[0] - a @ r[1:p + 1], rel=1e-6)
+        assert 0 < fits[p][1] <= fits[p - 1][1] * (1 + 1e-12)  # a better fit each order
+
+
+def test_the_channel_noise_order_is_akaikes_and_holds_a_spectral_peak():
+    # a misfit whose power sits in a band around 0.5 Hz (white noise through a Butterworth
+    # band-pass, 15 Hz samples, on a small white floor), as the blade-element misfit's
+    # peak: AR(4) cannot place the band and spreads its power into the frequencies below,
+    # where a slow wind is read; the order Akaike's criterion picks follows the spectrum
+    # there, and a white channel gets order 0 (or nearly)
+    from scipy.signal import butter, freqz, lfilter
+
+    rng = np.random.default_rng(11)
+    n, fs, floor = 20_000, 15.0, 0.05
+    b, a = butter(2, [0.35, 0.7], btype="bandpass", fs=fs)
+    e = np.column_stack([lfilter(b, a, rng.normal(size=n)) + floor * rng.normal(size=n)
+                         for _ in range(5)] + [rng.normal(size=n)])
+    chosen = ChannelNoise.fit(e, [slice(0, n)])
+    orders = chosen.orders()
+    assert orders[5] <= 2 and all(o > 4 for o in orders[:5]), orders
+    assert chosen.order == max(orders) and chosen.ar.shape == (6, max(orders))
+    four = ChannelNoise.fit(e, [slice(0, n)], order=4)
+    f = np.linspace(0.03, 0.2, 30)  # below the band, where the mean flow is read
+    _, h = freqz(b, a, worN=f, fs=fs)
+    true = 2 * (np.abs(h) ** 2 + floor**2) / fs
+
+    def psd(noise):
+        z = np.exp(-2j * np.pi * f / fs)
+        coef = noise.ar[0]
+        den = 1 - sum(coef[k] * z ** (k + 1) for k in range(coef.size))
+        return 2 * noise.innovation_var[0] / np.abs(den) ** 2 / fs
+
+    over_aic = np.exp(np.mean(np.log(psd(chosen) / true)))
+    over_four = np.exp(np.mean(np.log(psd(four) / true)))
+    # (measured: 3.3x against AR(4)'s 66x; a 30-fold notch is more than 32 coefficients
+    # can dig, and the blade-element misfit's is shallower: 1.0-1.5x there)
+    assert over_four > 20.0 and over_aic < over_four / 10.0, (over_aic, over_four)
+    with pytest.raises(ValueError, match="order"):
+        ChannelNoise.fit(e, [slice(0, n)], order=-1)
 
 
 def test_the_channel_noise_refuses_what_it_cannot_fit():
@@ -95,6 +150,62 @@ def test_white_channel_noise_in_the_augmented_filter_is_the_white_bound(tiny):
         sm.bound(wind, prior, noise, [0.1, -0.1, 0, 0, 0, 0])
 
 
+@settings(max_examples=6, deadline=None)
+@given(st.floats(-0.5, 0.8), st.floats(-0.4, 0.4), st.floats(-0.8, 0.8),
+       st.integers(0, 10_000))
+def test_the_vector_noise_fit_recovers_a_var_process(a, cross, rho, seed):
+    # a VAR(1): channel 1 follows channel 0 (cross), innovations of channels 0 and 3
+    # correlated (rho); read back by least squares at the order Akaike's criterion picks
+    rng = np.random.default_rng(seed)
+    n = 8_000
+    coef = np.diag([a, 0.5, -0.3, 0.2, 0.0, 0.6])
+    coef[1, 0] = cross
+    assume(np.max(np.abs(np.linalg.eigvals(coef))) < 0.95)
+    cov = np.diag([0.1, 0.2, 0.3, 0.4, 0.5, 0.6]) ** 2
+    cov[0, 3] = cov[3, 0] = rho * 0.1 * 0.4
+    innov = rng.multivariate_normal(np.zeros(6), cov, n + 200)
+    x = np.zeros((n + 200, 6))
+    for k in range(1, n + 200):
+        x[k] = coef @ x[k - 1] + innov[k]
+    e = x[200:] + 5.0  # the mean is not noise
+    fit = VectorNoise.fit(e, [slice(0, n)], max_order=4)
+    assert fit.order >= 1
+    # least squares' own scatter: coefficient (i, j) ~ innovation std i / (std j sqrt n)
+    tol = 5.0 * np.sqrt(np.diag(cov))[:, None] / (e.std(0)[None, :] * np.sqrt(n))
+    assert np.all(np.abs(fit.coef[0] - coef) < tol), (fit.coef[0] - coef) / tol
+    assert np.all(np.abs(fit.coef[1:]) < tol), fit.order
+    sd = np.sqrt(np.diag(cov))  # a sample covariance's scatter: sqrt((s_i s_j)^2 + c^2) / sqrt n
+    assert np.all(np.abs(fit.innovation_cov - cov)
+                  < 5.0 * np.sqrt(np.outer(sd, sd) ** 2 + cov**2) / np.sqrt(n))
+    np.testing.assert_allclose(fit.std(), e.std(0), rtol=0.05)
+    with pytest.raises(ValueError, match="order"):
+        VectorNoise.fit(e, [slice(0, n)], order=-1)
+
+
+def test_a_misfit_shared_by_channels_hides_the_wind_less_than_independent_ones(tiny):
+    # the same per-channel spectra (AR(1), phi 0.8), the lateral channels' innovations
+    # correlated (a_y, p-dot, r-dot: one side-force error shows in all three) or not: a
+    # shared misfit is partly cancellable between channels, so the bound is lower. And a
+    # VAR with diagonal coefficients and covariance is the per-channel AR exactly
+    est, wind = tiny
+    sm, prior = est.smoother, est.result.prior
+    sd = np.array([0.05, 0.04, 0.08, 0.3, 0.2, 0.4])
+    phi = 0.8
+    var = sd**2 * (1 - phi * phi)
+    per_channel = ChannelNoise(np.full((6, 1), phi), var, 1e-6 * sd**2)
+    diag = VectorNoise(np.diag(np.full(6, phi))[None], np.diag(var), 1e-6 * sd**2)
+    np.testing.assert_allclose(sm.bound(wind, prior, diag), sm.bound(wind, prior, per_channel),
+                               rtol=1e-6)
+    corr = np.eye(6)
+    for i, j in ((1, 3), (1, 5), (3, 5)):
+        corr[i, j] = corr[j, i] = 0.85 if (i, j) == (1, 3) else -0.6
+    shared = VectorNoise(np.diag(np.full(6, phi))[None],
+                         corr * np.sqrt(np.outer(var, var)), 1e-6 * sd**2)
+    np.testing.assert_allclose(shared.std(), per_channel.std(), rtol=1e-9)
+    lo, hi = sm.bound(wind, prior, shared).mean(0), sm.bound(wind, prior, per_channel).mean(0)
+    assert np.all(lo <= hi * (1 + 1e-9)) and lo[1] < 0.99 * hi[1], (lo, hi)
+
+
 def test_a_red_channel_error_informs_the_wind_less_than_white_noise_of_its_rms(tiny):
     # same variance on every channel, AR(1) coefficient phi: the low-frequency power is
     # var (1 + phi) / (1 - phi), so a red error (phi > 0) hides a steady wind more, a blue
@@ -122,7 +233,9 @@ def test_the_bound_at_the_truth_uses_the_models_error_and_the_airs_turbulence(
     assert at_truth["at"] == "truth" and at_est["at"] == "estimate"
     assert at_truth["std"].shape == (len(est.df), 6)
     assert np.all(np.isfinite(at_truth["std"])) and np.all(at_truth["std"] > 0)
-    assert "AR(2)" in at_truth["noise_model"]  # 31 samples: 10 rows per coefficient
+    # 31 samples: a VAR lag needs 60 rows (10 per coefficient of each equation), so the
+    # channels' error is white there, with its cross-covariance
+    assert "VAR(0)" in at_truth["noise_model"], at_truth["noise_model"]
     score = score_bound(score_wind(est.df, ft.df, burn_in_s=0.5), at_truth, est.df)
     for comp in score["components"].values():
         assert comp["crlb_std"] > 0 and comp["error_over_crlb"] > 0

@@ -63,7 +63,7 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     # far: 0.79 the lowest measured (v_y, the 60 s demo flight), against 0.53-0.57 of the
     # white-noise bound it replaced on the blade-element ship flights
     est = json.loads((out / "wind_estimate.json").read_text())["score"]
-    assert est["crlb"]["at"] == "truth" and "AR(" in est["crlb"]["noise_model"]
+    assert est["crlb"]["at"] == "truth" and "AR per channel" in est["crlb"]["noise_model"]
     for name, c in comp.items():
         assert c["crlb_std"] > 0 and c["error_over_crlb"] >= 0.7, (name, c)
     # and the report says what limits the estimate, from those ratios

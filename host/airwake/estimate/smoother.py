@@ -91,7 +91,11 @@ TIED_ROTATION = (3, 4)
 SIGMA_FLOOR = np.array([0.02, 0.02, 0.02, 0.01, 0.01, 0.01])
 MEAN_WALK_FLOOR = 1e-3
 NOISE_FLOOR = 1e-4
-NOISE_AR_ORDER = 4  # the bound's channel-error model: AR(4) per channel (docs: the spectra)
+# the bound's channel-error model: AR(p) per channel, p by Akaike's criterion up to this
+# (2.1 s at 15 Hz). AR(4) smeared the blade-element misfit's 0.5 Hz peak into the wind's
+# band (1.2-8.9x the Welch spectrum at 0.03-0.3 Hz; docs/wind-estimation.md)
+NOISE_AR_MAX_ORDER = 32
+NOISE_VAR_MAX_ORDER = 16  # the same for the vector AR (6 x 6 per lag: 1.1 s at 15 Hz)
 NOISE_WHITE_FRACTION = 1e-3  # white noise added to the bound's AR channel error (conditioning)
 FD_STEP_H = 1e-6
 DEAD_VARIANCE = 1e-20  # of the largest predicted variance: a state nothing uncertain reaches
@@ -197,6 +201,20 @@ def _offset_stds(offset_std) -> np.ndarray:
     return sig
 
 
+def _levinson(acov: np.ndarray) -> list[tuple[np.ndarray, float]]:
+    """Levinson-Durbin on autocovariances acov (p + 1,): [(AR coefficients (k,),
+    innovation variance)] for every order k = 0 ... p (Yule-Walker's solutions)."""
+    a = np.zeros(0)
+    v = float(acov[0])
+    out = [(a, v)]
+    for k in range(1, acov.size):
+        refl = (acov[k] - a @ acov[k - 1:0:-1]) / v
+        a = np.concatenate([a - refl * a[::-1], [refl]])
+        v *= 1.0 - refl * refl
+        out.append((a, v))
+    return out
+
+
 @dataclass
 class ChannelNoise:
     """Each measured channel's error as a Gaussian process: an AR(p) part
@@ -212,6 +230,10 @@ class ChannelNoise:
     def order(self) -> int:
         return int(self.ar.shape[1])
 
+    def orders(self) -> list[int]:
+        """Each channel's own AR order (its last non-zero coefficient)."""
+        return [int(np.flatnonzero(row)[-1]) + 1 if np.any(row) else 0 for row in self.ar]
+
     @classmethod
     def white(cls, std) -> ChannelNoise:
         std = np.asarray(std, dtype=float)
@@ -220,17 +242,21 @@ class ChannelNoise:
         return cls(np.zeros((6, 0)), np.zeros(6), std**2)
 
     @classmethod
-    def fit(cls, residual: np.ndarray, runs, order: int = NOISE_AR_ORDER,
-            white_fraction: float = NOISE_WHITE_FRACTION) -> ChannelNoise:
-        """Yule-Walker AR(`order`, less on a residual under 10 (order + 1) rows) per
-        channel of `residual` (n, 6) over the contiguous `runs` (slices; rows with a
-        non-finite value dropped from their run), each channel about its mean over the
-        flight (a steady part is an offset, not noise). The autocovariances are pooled
-        over the runs (the biased estimator: a positive definite Toeplitz matrix, so a
-        stable AR). A white part of `white_fraction` of each channel's variance is added
+    def fit(cls, residual: np.ndarray, runs, order: int | None = None,
+            white_fraction: float = NOISE_WHITE_FRACTION,
+            max_order: int = NOISE_AR_MAX_ORDER) -> ChannelNoise:
+        """Yule-Walker AR per channel of `residual` (n, 6) over the contiguous `runs`
+        (slices; rows with a non-finite value dropped from their run), each channel about
+        its mean over the flight (a steady part is an offset, not noise). The
+        autocovariances are pooled over the runs (the biased estimator: a positive definite
+        Toeplitz matrix, so a stable AR). The order: `order` for every channel, or (None)
+        each channel's by Akaike's information criterion, N ln(innovation variance) + 2p,
+        over p = 0 ... `max_order` (Akaike 1974; the Levinson-Durbin recursion gives every
+        order at once) — a misfit with a spectral peak needs more than a few coefficients,
+        or the AR spreads the peak's power into the frequencies beside it. Either way at
+        most one coefficient per 10 rows; channels of lower order are padded with zero
+        coefficients. A white part of `white_fraction` of each channel's variance is added
         on top (it keeps the innovation covariance well conditioned)."""
-        from scipy.linalg import solve_toeplitz
-
         e = np.asarray(residual, dtype=float)
         if e.ndim != 2 or e.shape[1] != 6:
             raise ValueError(f"the residual must be (n, 6), got {e.shape}")
@@ -238,26 +264,55 @@ class ChannelNoise:
         if ok.sum() < 10:
             raise ValueError(f"a residual of at least 10 finite rows is needed for a noise "
                              f"model, got {int(ok.sum())} finite of {e.shape[0]}")
-        order = min(int(order), int(ok.sum()) // 10 - 1)  # >= 10 rows per coefficient
+        top = int(max_order) if order is None else int(order)
+        if top < 0:
+            raise ValueError(f"the AR order must be >= 0, got {top}")
+        top = min(top, int(ok.sum()) // 10 - 1)  # >= 10 rows per coefficient
         e = e - e[ok].mean(axis=0)
-        acov = np.zeros((order + 1, 6))
+        acov = np.zeros((top + 1, 6))
         count = 0
         for run in runs:
             seg = e[run][ok[run]]
             count += seg.shape[0]
-            for lag in range(min(order + 1, seg.shape[0])):
+            for lag in range(min(top + 1, seg.shape[0])):
                 acov[lag] += np.sum(seg[:seg.shape[0] - lag] * seg[lag:], axis=0)
         acov /= max(count, 1)
         var = acov[0]
         if np.any(var <= 0):
             raise ValueError(f"a channel of the residual is constant (variance {var!r})")
-        ar = np.zeros((6, order))
+        fits = [_levinson(acov[:, c]) for c in range(6)]  # [(coefficients, innovation)]
+        if order is None:
+            pick = [int(np.argmin([count * np.log(v) + 2.0 * p
+                                   for p, (_, v) in enumerate(f)])) for f in fits]
+        else:
+            pick = [top] * 6
+        ar = np.zeros((6, max(pick)))
         innov = np.zeros(6)
-        for c in range(6):
-            if order:
-                ar[c] = solve_toeplitz(acov[:order, c], acov[1:order + 1, c])
-            innov[c] = max(var[c] - ar[c] @ acov[1:order + 1, c], 1e-12 * var[c])
+        for c, p in enumerate(pick):
+            coef, v = fits[c][p]
+            ar[c, :p] = coef
+            innov[c] = max(v, 1e-12 * var[c])
         return cls(ar, innov, white_fraction * var)
+
+    def white_cov(self) -> np.ndarray:
+        """(6, 6) the white part's covariance."""
+        return np.diag(self.white_var)
+
+    def companion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The AR part as a linear state (what the bound augments its system with):
+        (F (N, N) transition, Q (N, N) innovation covariance, S (6, N) which state adds to
+        each channel), channel c's last p values in states c p ... c p + p - 1."""
+        p = self.order
+        f = np.zeros((6 * p, 6 * p))
+        q = np.zeros((6 * p, 6 * p))
+        sel = np.zeros((6, 6 * p))
+        for c in range(6 if p else 0):
+            o = c * p
+            f[o, o:o + p] = self.ar[c]
+            f[o + np.arange(1, p), o + np.arange(p - 1)] = 1.0
+            q[o, o] = self.innovation_var[c]
+            sel[c, o] = 1.0
+        return f, q, sel
 
     def stationary_covariance(self) -> np.ndarray:
         """(6p, 6p) the AR states' stationary covariance (channels independent)."""
@@ -283,6 +338,130 @@ class ChannelNoise:
         p = self.order
         ar_var = np.array([cov[c * p, c * p] for c in range(6)]) if p else np.zeros(6)
         return np.sqrt(ar_var + self.white_var)
+
+
+@dataclass
+class VectorNoise:
+    """The six channels' error as one vector autoregressive process (VAR(p)):
+        n_k = sum_i coef[i] n_{k-i} + e_k,  Cov e_k = innovation_cov (6, 6),
+    plus white noise of variance white_var, at the front end's sample rate. Where the
+    model's misfit has one cause in several channels (a lateral force error shows in a_y,
+    in p-dot through the hub's height and in r-dot through the tail) the channels' errors
+    are correlated, and part of one channel's misfit is predictable from another's; the
+    per-channel `ChannelNoise` counts each as an independent corruption and so tells a
+    bound that less is known than is. Fitted by `fit` (least squares)."""
+
+    coef: np.ndarray  # (p, 6, 6)
+    innovation_cov: np.ndarray  # (6, 6)
+    white_var: np.ndarray  # (6,)
+
+    @property
+    def order(self) -> int:
+        return int(self.coef.shape[0])
+
+    def orders(self) -> list[int]:
+        return [self.order] * 6
+
+    @classmethod
+    def fit(cls, residual: np.ndarray, runs, order: int | None = None,
+            white_fraction: float = NOISE_WHITE_FRACTION,
+            max_order: int = NOISE_VAR_MAX_ORDER) -> VectorNoise:
+        """Least-squares VAR of `residual` (n, 6) over the contiguous `runs` (rows with a
+        non-finite value end a stretch; each stretch's lags stay inside it), about the
+        flight's mean (a steady part is an offset, not noise). The order: `order`, or
+        (None) Akaike's criterion, N ln det(innovation covariance) + 2 * 36 p, over
+        p = 0 ... `max_order` (Akaike 1974; Lutkepohl, New Introduction to Multiple Time
+        Series Analysis, 2005, sec. 4.3), at most one lag per 10 rows per coefficient of
+        an equation, and no order whose process is not stable (spectral radius < 1)."""
+        e = np.asarray(residual, dtype=float)
+        if e.ndim != 2 or e.shape[1] != 6:
+            raise ValueError(f"the residual must be (n, 6), got {e.shape}")
+        ok = np.all(np.isfinite(e), axis=1)
+        if ok.sum() < 10:
+            raise ValueError(f"a residual of at least 10 finite rows is needed for a noise "
+                             f"model, got {int(ok.sum())} finite of {e.shape[0]}")
+        top = int(max_order) if order is None else int(order)
+        if top < 0:
+            raise ValueError(f"the VAR order must be >= 0, got {top}")
+        top = max(min(top, int(ok.sum()) // 60 - 1), 0)  # >= 10 rows per coefficient (6 p)
+        e = e - e[ok].mean(axis=0)
+        var = e[ok].var(axis=0)
+        if np.any(var <= 0):
+            raise ValueError(f"a channel of the residual is constant (variance {var!r})")
+        stretches = []
+        for run in runs:
+            seg_ok = ok[run]
+            seg = e[run]
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], seg_ok.astype(int), [0]])))
+            stretches += [seg[a:b] for a, b in zip(edges[::2], edges[1::2], strict=True)]
+        best = None
+        for p in range(top + 1) if order is None else (max(top, 0),):
+            ys, xs = [], []
+            for seg in stretches:
+                if seg.shape[0] <= top:
+                    continue
+                # the same rows for every order (from `top` on), so AIC compares like
+                ys.append(seg[top:])
+                xs.append(np.hstack([seg[top - i:seg.shape[0] - i] for i in range(1, p + 1)])
+                          if p else np.zeros((seg.shape[0] - top, 0)))
+            if not ys:
+                raise ValueError("no stretch of the residual is longer than the VAR order")
+            y, x = np.vstack(ys), np.vstack(xs)
+            b = np.linalg.lstsq(x, y, rcond=None)[0] if p else np.zeros((0, 6))
+            res = y - x @ b
+            cov = res.T @ res / y.shape[0]
+            coef = b.T.reshape(6, p, 6).transpose(1, 0, 2) if p else np.zeros((0, 6, 6))
+            if p and np.max(np.abs(np.linalg.eigvals(_var_companion(coef)))) >= 1.0:
+                continue
+            sign, logdet = np.linalg.slogdet(cov)
+            if sign <= 0:
+                continue
+            aic = y.shape[0] * logdet + 2.0 * 36 * p
+            if best is None or aic < best[0]:
+                best = (aic, coef, cov)
+        if best is None:
+            raise ValueError("no stable VAR fits the residual")
+        return cls(best[1], 0.5 * (best[2] + best[2].T), white_fraction * var)
+
+    def white_cov(self) -> np.ndarray:
+        """(6, 6) the white part's covariance (a VAR(0) is all white)."""
+        return np.diag(self.white_var) + (0.0 if self.order else self.innovation_cov)
+
+    def companion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(F, Q, S) as `ChannelNoise.companion`: the states are n_k, n_k-1, ... n_k-p+1
+        (6 each), S reads n_k."""
+        p = self.order
+        f = _var_companion(self.coef)
+        q = np.zeros((6 * p, 6 * p))
+        sel = np.zeros((6, 6 * p))
+        if p:
+            q[:6, :6] = self.innovation_cov
+            sel[:, :6] = np.eye(6)
+        return f, q, sel
+
+    def stationary_covariance(self) -> np.ndarray:
+        from scipy.linalg import solve_discrete_lyapunov
+
+        f, q, _ = self.companion()
+        if not self.order:
+            return np.zeros((0, 0))
+        cov = solve_discrete_lyapunov(f, q)
+        return 0.5 * (cov + cov.T)
+
+    def std(self) -> np.ndarray:
+        cov = self.stationary_covariance()
+        ar_var = np.diag(cov)[:6] if self.order else np.zeros(6)
+        return np.sqrt(ar_var + self.white_var)
+
+
+def _var_companion(coef: np.ndarray) -> np.ndarray:
+    """(6p, 6p) the companion matrix of VAR coefficients coef (p, 6, 6)."""
+    p = coef.shape[0]
+    f = np.zeros((6 * p, 6 * p))
+    if p:
+        f[:6] = np.hstack(list(coef))
+        f[6:, :-6] = np.eye(6 * (p - 1))
+    return f
 
 
 class WindSmoother:
@@ -819,7 +998,9 @@ class WindSmoother:
         noise_std: (6,) white channel noise, or a `ChannelNoise` — each channel's error as
         a coloured (autoregressive) Gaussian process, the model's misfit as it is: a
         misfit whose power sits at low frequency informs a slow wind less than white
-        noise of the same RMS, one at high frequency more. offset_std (6,), optional:
+        noise of the same RMS, one at high frequency more — or a `VectorNoise`, the six
+        channels' errors as one vector AR process (a misfit with one cause in several
+        channels is partly cancellable between them). offset_std (6,), optional:
         steady channel offsets (the model's still-air `model_error_offset`, an
         accelerometer's turn-on bias) as nuisance parameters, random constants of that
         prior std (0: none on that channel). Both enter as states of an augmented
@@ -831,7 +1012,7 @@ class WindSmoother:
         m, n_s = self.m, self.n_state
         d = self.pre.data
         wind = np.asarray(wind, dtype=float)
-        coloured = isinstance(noise_std, ChannelNoise)
+        coloured = isinstance(noise_std, (ChannelNoise, VectorNoise))
         if offset_std is not None:
             offset_std = _offset_stds(offset_std)
             if not np.any(offset_std > 0):
@@ -874,32 +1055,27 @@ class WindSmoother:
         return out
 
     def _bound_augmented(self, run: slice, lin: _Lin, prior: WindPrior,
-                         noise: ChannelNoise, offset_std, wind0) -> np.ndarray:
+                         noise: ChannelNoise | VectorNoise, offset_std,
+                         wind0) -> np.ndarray:
         """(n, N, N) the smoothed covariance of the model's states along `lin` when the
-        channel noise is `noise` (AR(p) per channel plus white) and steady offsets of std
-        `offset_std` (or None) add to the channels: a covariance-only Kalman filter and RTS
-        smoother over [states | each channel's last p noise values | the offsets]."""
+        channel noise is `noise` (AR per channel or one VAR, plus white) and steady
+        offsets of std `offset_std` (or None) add to the channels: a covariance-only Kalman
+        filter and RTS smoother over [states | the noise's companion states | the
+        offsets]."""
         n_s = self.n_state
         d = self.pre.data
-        p_ar = noise.order
         on = np.zeros(6, bool) if offset_std is None else offset_std > 0
         n_b = int(on.sum())
-        n_a = n_s + 6 * p_ar + n_b
-        ar = slice(n_s, n_s + 6 * p_ar)
-        b = slice(n_s + 6 * p_ar, n_a)
-        # transition of the noise block (companion form per channel) and its innovation
-        f_ar = np.zeros((6 * p_ar, 6 * p_ar))
-        q_ar = np.zeros((6 * p_ar, 6 * p_ar))
+        # the noise block (its companion form) and its innovation
+        f_ar, q_ar, sel_ar = noise.companion()
+        n_ar = f_ar.shape[0]
+        n_a = n_s + n_ar + n_b
+        ar = slice(n_s, n_s + n_ar)
+        b = slice(n_s + n_ar, n_a)
         sel = np.zeros((6, n_a))  # which augmented states add to each channel
-        for ch in range(6):
-            o = ch * p_ar
-            if p_ar:
-                f_ar[o, o:o + p_ar] = noise.ar[ch]
-                f_ar[o + np.arange(1, p_ar), o + np.arange(p_ar - 1)] = 1.0
-                q_ar[o, o] = noise.innovation_var[ch]
-                sel[ch, n_s + o] = 1.0
+        sel[:, ar] = sel_ar
         sel[np.flatnonzero(on), b] = np.eye(n_b)
-        r = np.diag(noise.white_var)
+        r = noise.white_cov()
         idx = np.arange(run.start, run.stop)
         n = idx.size
         _, p0 = self._initial(idx[0], prior, wind0)

@@ -725,7 +725,8 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
     `use_truth` (else at the estimate), the channel error is what the model leaves at that
     wind — measured minus the model's prediction through the front end
     (`WindSmoother.open_loop`): sensor noise and model misfit together, as they are —
-    fitted as a coloured Gaussian process per channel (`ChannelNoise.fit`, AR(4)): a
+    fitted as one coloured Gaussian process of the six channels (`VectorNoise.fit`, a
+    vector AR by AIC: the channels' misfits share causes and are correlated): a
     misfit whose power sits at the wind's low frequencies informs the wind less than white
     noise of the same RMS, one at the rotor's frequencies more. The steady offsets the
     posterior considers (the model's `model_error_offset`, `--accel-bias-std`) enter as
@@ -734,7 +735,7 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
     added to the mean-flow components, as in the posterior. Returns {"std": (n, 6),
     "noise_std": (6,) the channel error's RMS, "at": "truth"|"estimate", "noise_model"}."""
     from airwake.estimate.errors import WindEstimationError
-    from airwake.estimate.smoother import SIGMA_FLOOR, ChannelNoise
+    from airwake.estimate.smoother import SIGMA_FLOOR, VectorNoise
 
     sm, res = est.smoother, est.result
     if sm is None:
@@ -743,7 +744,7 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
     wind = truth_at(est.df, flight_df) if have else np.asarray(res.mean, float)
     error = sm.pre.data.z - sm.open_loop(wind)
     try:
-        noise = ChannelNoise.fit(error, sm.pre.data.runs)
+        noise = VectorNoise.fit(error, sm.pre.data.runs)
         # the Bayesian bound averages over winds drawn from its prior: at the truth, the
         # prior of the air actually flown through (the learned one holds the model's
         # misfit as turbulence too: 0.45-0.5 against the airwake's 0.07-0.12 measured on
@@ -756,7 +757,7 @@ def wind_bound(est: WindEstimate, flight_df, use_truth: bool = True) -> dict:
     ins = float(est.metadata.get("ins_velocity_std_m_s", 0.0))
     std[:, :3] = np.sqrt(std[:, :3] ** 2 + ins**2)
     return {"std": std, "noise_std": noise.std(), "at": "truth" if have else "estimate",
-            "noise_model": f"AR({noise.order}) per channel + steady offsets"}
+            "noise_model": f"VAR({noise.order}) of the six channels (AIC) + steady offsets"}
 
 
 def score_bound(score: dict, bound: dict, wind_df) -> dict:
