@@ -201,6 +201,22 @@ def _offset_stds(offset_std) -> np.ndarray:
     return sig
 
 
+def _residual_for_noise(residual, order, max_order, what: str):
+    """(residual (n, 6) as floats, its rows with every channel finite, the highest order
+    to try) for a noise model's fit, or a ValueError naming what is wrong."""
+    e = np.asarray(residual, dtype=float)
+    if e.ndim != 2 or e.shape[1] != 6:
+        raise ValueError(f"the residual must be (n, 6), got {e.shape}")
+    ok = np.all(np.isfinite(e), axis=1)
+    if ok.sum() < 10:
+        raise ValueError(f"a residual of at least 10 finite rows is needed for a noise "
+                         f"model, got {int(ok.sum())} finite of {e.shape[0]}")
+    top = int(max_order) if order is None else int(order)
+    if top < 0:
+        raise ValueError(f"the {what} order must be >= 0, got {top}")
+    return e, ok, top
+
+
 def _levinson(acov: np.ndarray) -> list[tuple[np.ndarray, float]]:
     """Levinson-Durbin on autocovariances acov (p + 1,): [(AR coefficients (k,),
     innovation variance)] for every order k = 0 ... p (Yule-Walker's solutions)."""
@@ -257,16 +273,7 @@ class ChannelNoise:
         most one coefficient per 10 rows; channels of lower order are padded with zero
         coefficients. A white part of `white_fraction` of each channel's variance is added
         on top (it keeps the innovation covariance well conditioned)."""
-        e = np.asarray(residual, dtype=float)
-        if e.ndim != 2 or e.shape[1] != 6:
-            raise ValueError(f"the residual must be (n, 6), got {e.shape}")
-        ok = np.all(np.isfinite(e), axis=1)
-        if ok.sum() < 10:
-            raise ValueError(f"a residual of at least 10 finite rows is needed for a noise "
-                             f"model, got {int(ok.sum())} finite of {e.shape[0]}")
-        top = int(max_order) if order is None else int(order)
-        if top < 0:
-            raise ValueError(f"the AR order must be >= 0, got {top}")
+        e, ok, top = _residual_for_noise(residual, order, max_order, "AR")
         top = min(top, int(ok.sum()) // 10 - 1)  # >= 10 rows per coefficient
         e = e - e[ok].mean(axis=0)
         acov = np.zeros((top + 1, 6))
@@ -373,16 +380,7 @@ class VectorNoise:
         p = 0 ... `max_order` (Akaike 1974; Lutkepohl, New Introduction to Multiple Time
         Series Analysis, 2005, sec. 4.3), at most one lag per 10 rows per coefficient of
         an equation, and no order whose process is not stable (spectral radius < 1)."""
-        e = np.asarray(residual, dtype=float)
-        if e.ndim != 2 or e.shape[1] != 6:
-            raise ValueError(f"the residual must be (n, 6), got {e.shape}")
-        ok = np.all(np.isfinite(e), axis=1)
-        if ok.sum() < 10:
-            raise ValueError(f"a residual of at least 10 finite rows is needed for a noise "
-                             f"model, got {int(ok.sum())} finite of {e.shape[0]}")
-        top = int(max_order) if order is None else int(order)
-        if top < 0:
-            raise ValueError(f"the VAR order must be >= 0, got {top}")
+        e, ok, top = _residual_for_noise(residual, order, max_order, "VAR")
         top = max(min(top, int(ok.sum()) // 60 - 1), 0)  # >= 10 rows per coefficient (6 p)
         e = e - e[ok].mean(axis=0)
         var = e[ok].var(axis=0)
