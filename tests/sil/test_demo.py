@@ -65,7 +65,7 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     # ship flights; the vector AR misfit (2026-11-28) lowers the bound, 0.95 the lowest
     # measured since on six ship flights
     est = json.loads((out / "wind_estimate.json").read_text())["score"]
-    assert est["crlb"]["at"] == "truth" and "AR per channel" in est["crlb"]["noise_model"]
+    assert est["crlb"]["at"] == "truth" and "VAR(" in est["crlb"]["noise_model"]
     for name, c in comp.items():
         assert c["crlb_std"] > 0 and c["error_over_crlb"] >= 0.7, (name, c)
     # and the report says what limits the estimate, from those ratios
