@@ -14,9 +14,14 @@ The model's smoother (`airwake.estimate.smoother`) reads the wind through the dy
 it follows the fast part, with a steady offset from the model's misfit and a fast error of
 its own. Both read the same INS velocity, so its error cancels in their difference. Above
 the net's band the difference (model - net) is the fast wind the net misses plus the
-smoother's own fast error; the two are independent, so the difference's local power
-bounds the net's missing part from above (by the smoother's fast error). The difference
-is high-passed by a centred Gaussian whose complement passes half the power at
+smoother's own fast error. The two are not independent: the smoother follows the fast
+wind only in part, so its fast error is the wind it leaves out (correlation with the fast
+truth -0.24 ... -0.79 on the blade-element ship flights and the fans), and the
+difference's local power falls short of the net's missing part (its RMS 0.09-0.20 m/s
+against the net's fast error of 0.13-0.21 on four ship flights, 2026-11-29; the slow
+part of the net's error at sea, 0.09-0.24 against its still-air 0.07-0.11, is not in it
+either; docs/networks.md). It is what the flight shows of that part without a truth. The
+difference is high-passed by a centred Gaussian whose complement passes half the power at
 `HIGHPASS_HZ` (the net's measured band edge) and its square averaged over a centred
 Gaussian window of `WINDOW_S` (1 sigma, cut at 3: 30 s in all, most of its weight in
 the middle 20 s; several correlation times of the high-passed wind) — local, because
