@@ -17,8 +17,9 @@ the net's band the difference (model - net) is the fast wind the net misses plus
 smoother's own fast error. The two are not independent: the smoother follows the fast
 wind only in part, so its fast error is the wind it leaves out (correlation with the fast
 truth -0.24 ... -0.79 on the blade-element ship flights and the fans), and the
-difference's local power falls short of the net's missing part (its RMS 0.09-0.20 m/s
-against the net's fast error of 0.13-0.21 on four ship flights, 2026-11-29; the slow
+difference's local power falls short of the net's missing part (on v_y of two b0
+flights its RMS is 0.09 / 0.11 m/s against the net's fast error of 0.13 / 0.14,
+2026-11-29; the slow
 part of the net's error at sea, 0.09-0.24 against its still-air 0.07-0.11, is not in it
 either; docs/networks.md). It is what the flight shows of that part without a truth. The
 difference is high-passed by a centred Gaussian whose complement passes half the power at
