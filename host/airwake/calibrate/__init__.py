@@ -117,12 +117,19 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
         result.start = start_values[free]
     envelope = flight_envelope(data, model)
     result.notes[:0] = held
+    # a yaw gyro between the rudder the model reads and the tail servo (calibrate.yaw_gyro)
+    from airwake.calibrate.yaw_gyro import note as gyro_note
+    from airwake.calibrate.yaw_gyro import yaw_gyro
+
+    gyro = yaw_gyro(getattr(ft, "df", ft))
+    if gyro_note(gyro):
+        result.notes.append(gyro_note(gyro))
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
                        scored_samples=int(windows.n_scored), seed=int(seed),
                        held=list(held), front_end=front, envelope=envelope,
                        rms_after_weighting_fit=None if weighted_start is None else
                        [float(v) for v in weighted_start],
-                       wind_trust=wind_trust(envelope))
+                       wind_trust=wind_trust(envelope), yaw_gyro=gyro)
     return result
 
 

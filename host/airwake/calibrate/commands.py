@@ -118,7 +118,8 @@ def _handle(args: argparse.Namespace) -> int:
         print(json.dumps({**result.to_dict(), "spec": str(path),
                           "held": info.get("held", []), "front_end": info.get("front_end"),
                           "envelope": info.get("envelope"),
-                          "wind_trust": info.get("wind_trust")}, indent=2))
+                          "wind_trust": info.get("wind_trust"),
+                          "yaw_gyro": info.get("yaw_gyro")}, indent=2))
     else:
         print_report(result, path)
     return 0
