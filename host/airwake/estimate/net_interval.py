@@ -20,8 +20,8 @@ truth -0.23 ... -0.79 on four blade-element ship flights and the fans), and the
 difference's local power falls short of the net's missing part (on v_y of two b0
 flights its RMS is 0.09 / 0.11 m/s against the net's fast error of 0.13 / 0.14,
 2026-11-29; the slow part of the net's error at sea, 0.07-0.24 against its still-air
-0.07-0.11, is not in it either; docs/networks.md). It is what the flight shows of that part without a truth. The
-difference is high-passed by a centred Gaussian whose complement passes half the power at
+0.07-0.11, is not in it either; docs/networks.md). It is what the flight shows of that
+part without a truth. The difference is high-passed by a centred Gaussian whose complement passes half the power at
 `HIGHPASS_HZ` (the net's measured band edge) and its square averaged over a centred
 Gaussian window of `WINDOW_S` (1 sigma, cut at 3: 30 s in all, most of its weight in
 the middle 20 s; several correlation times of the high-passed wind) — local, because
