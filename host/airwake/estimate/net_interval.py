@@ -11,22 +11,22 @@ still air, leaves that part out, so its interval alone covers about half to four
 of the truth at sea (0.45-0.83 on the blade-element ship flights).
 
 The model's smoother (`airwake.estimate.smoother`) reads the wind through the dynamics:
-it follows the fast part, with a steady offset from the model's misfit and a fast error of
-its own. Both read the same INS velocity, so its error cancels in their difference. Above
-the net's band the difference (model - net) is the fast wind the net misses plus the
-smoother's own fast error. The two are not independent: the smoother follows the fast
-wind only in part, so its fast error is the wind it leaves out (correlation with the fast
-truth -0.23 ... -0.79 on four blade-element ship flights and the fans), and the
-difference's local power falls short of the net's missing part (on v_y of two b0
-flights its RMS is 0.09 / 0.11 m/s against the net's fast error of 0.13 / 0.14,
-2026-11-29; the slow part of the net's error at sea, 0.07-0.24 against its still-air
-0.07-0.11, is not in it either; docs/networks.md). It is what the flight shows of that
-part without a truth. The difference is high-passed by a centred Gaussian whose complement passes half the power at
-`HIGHPASS_HZ` (the net's measured band edge) and its square averaged over a centred
-Gaussian window of `WINDOW_S` (1 sigma, cut at 3: 30 s in all, most of its weight in
-the middle 20 s; several correlation times of the high-passed wind) — local, because
-the airwake's turbulence is not the same everywhere over the deck. Offline only: both
-windows read the future.
+it follows the fast part, with a steady offset from the model's misfit and a fast error
+of its own. Both read the same INS velocity, so its error cancels in their difference.
+Above the net's band the difference (model - net) is the fast wind the net misses plus
+the smoother's own fast error. The two are not independent: the smoother follows the
+fast wind only in part, so its fast error is the wind it leaves out (correlation with
+the fast truth -0.23 ... -0.79 on four blade-element ship flights and the fans), and the
+difference's local power falls short of the net's missing part (on v_y of two b0 flights
+its RMS is 0.09 / 0.11 m/s against the net's fast error of 0.13 / 0.14, 2026-11-29; the
+slow part of the net's error at sea, 0.07-0.24 against its still-air 0.07-0.11, is not
+in it either; docs/networks.md). It is what the flight shows of that part without a
+truth. The difference is high-passed by a centred Gaussian whose complement passes half
+the power at `HIGHPASS_HZ` (the net's measured band edge) and its square averaged over a
+centred Gaussian window of `WINDOW_S` (1 sigma, cut at 3: 30 s in all, most of its
+weight in the middle 20 s; several correlation times of the high-passed wind) — local,
+because the airwake's turbulence is not the same everywhere over the deck. Offline only:
+both windows read the future.
 """
 
 from __future__ import annotations
