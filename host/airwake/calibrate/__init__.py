@@ -122,8 +122,9 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     from airwake.calibrate.yaw_gyro import yaw_gyro
 
     gyro = yaw_gyro(getattr(ft, "df", ft))
-    if gyro_note(gyro):
-        result.notes.append(gyro_note(gyro))
+    line = gyro_note(gyro)
+    if line:
+        result.notes.append(line)
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
                        scored_samples=int(windows.n_scored), seed=int(seed),
                        held=list(held), front_end=front, envelope=envelope,
