@@ -1,13 +1,23 @@
-"""A wind net's interval widened by a model smoother's disagreement with it
-(`airwake.estimate.net_interval`): the maths on signals whose parts are known."""
+"""A wind net's interval widened by a model smoother's disagreement with it and by the
+fast wind the smoother did not see (`airwake.estimate.net_interval`): the maths on
+signals whose parts are known."""
+
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
 import pytest
-from airwake.estimate.net_interval import MEAN_FLOW, disagreement_std, highpass_sigma_s
+from airwake.estimate.net_interval import (
+    MEAN_FLOW,
+    disagreement_std,
+    highpass_sigma_s,
+    share_above,
+    unseen_std,
+)
 from airwake.nets.features import gaussian_kernel
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy import integrate
 
 RATE = 15.0
 
@@ -107,3 +117,62 @@ def test_bad_input_is_named():
     nan = _table(t, [np.full_like(t, np.nan)] * 3)
     with pytest.raises(ValueError, match="finite"):
         disagreement_std(nan, z)
+
+
+@settings(max_examples=30)
+@given(st.floats(0.01, 5.0), st.floats(0.05, 20.0))
+def test_the_share_above_the_corner_is_the_gauss_markov_spectrums(corner_hz, tau):
+    # a first-order Gauss-Markov process: two-sided spectrum 2 sigma^2 tau / (1 + (w tau)^2)
+    # over w; its one-sided power above f_c as a share of the whole
+    def density(f):
+        return 4.0 * tau / (1.0 + (2 * np.pi * f * tau) ** 2)
+
+    above, _ = integrate.quad(density, corner_hz, np.inf, limit=200)
+    assert float(share_above(corner_hz, tau)) == pytest.approx(above, rel=1e-6, abs=1e-9)
+    # a slower process keeps less of its power above the corner
+    assert share_above(corner_hz, 2 * tau) < share_above(corner_hz, tau)
+
+
+def test_the_unseen_part_is_the_turbulence_posterior_above_the_nets_band():
+    t = np.arange(0, 30, 1 / RATE)
+    fast = np.column_stack([np.full_like(t, 0.3), np.linspace(0.1, 0.2, t.size),
+                            np.full_like(t, 0.05), np.ones((t.size, 3))])
+    fast[10:20, 0] = np.nan  # a gap between two runs is bridged
+    tau = np.array([0.9, 0.9, 0.9, 0.45, 0.45, 0.45])
+    result = SimpleNamespace(t=t, fast_std=fast, prior=SimpleNamespace(tau_s=tau))
+    t_net = np.arange(0, 30, 1 / 150)
+    got = unseen_std(t_net, result, highpass_hz=0.1)
+    assert got.shape == (t_net.size, 3) and np.isfinite(got).all()
+    k = np.sqrt(1 - 2 / np.pi * np.arctan(2 * np.pi * 0.1 * 0.9))
+    np.testing.assert_allclose(got[:, 0], 0.3 * k, rtol=1e-12)
+    np.testing.assert_allclose(got[:, 1], k * np.interp(t_net, t, fast[:, 1]), rtol=1e-12)
+    # a higher band edge leaves less of the turbulence unseen
+    assert (unseen_std(t_net, result, highpass_hz=0.5) < got).all()
+    with pytest.raises(ValueError, match="fast_std"):
+        unseen_std(t_net, SimpleNamespace(t=t, prior=result.prior))
+    with pytest.raises(ValueError, match="correlation time"):
+        share_above(0.1, [0.9, -1.0])
+    with pytest.raises(ValueError, match="corner"):
+        share_above(0.0, 0.9)
+
+
+def test_the_smoothers_turbulence_posterior_is_within_its_prior(tiny_wind_flight):
+    # the fast part's posterior std: finite, positive, and no wider than the prior's
+    # stationary std (a smoother's posterior variance never exceeds its prior's)
+    from airwake.calibrate import load_flight
+    from airwake.calibrate.residuals import FlightData
+    from airwake.estimate.prefilter import prefilter
+    from airwake.estimate.smoother import WindSmoother
+    from airwake.estimate.wind_prior import WindPrior
+    from airwake.heli import load_model
+
+    model = load_model("table52")
+    pre = prefilter(FlightData.from_flight(model, load_flight(tiny_wind_flight)), model,
+                    6.0, 15.0)
+    prior = WindPrior.from_physics(0.673, 3.0)
+    res = WindSmoother(model, pre, prior, iterations=1).run()
+    assert res.fast_std.shape == res.std.shape
+    assert np.isfinite(res.fast_std).all() and (res.fast_std > 0).all()
+    assert (res.fast_std <= prior.sigma * (1 + 1e-6)).all()
+    # the accelerations read the fast mean flow: its posterior is well inside the prior
+    assert np.median(res.fast_std[:, :3] / prior.sigma[:3]) < 0.9

@@ -136,7 +136,9 @@ class SmootherResult:
     """Per kept sample (n): t; mean, std (n, 6) smoothed wind; filtered_mean,
     filtered_std (n, 6) the forward (causal) pass.
     prior (learned), noise_std (6,), history (per pass: log-likelihood, prior, noise),
-    seconds, evaluations (model rows)."""
+    seconds, evaluations (model rows); fast_std (n, 6) the smoothed posterior std of the
+    turbulence part xi alone (the Gauss-Markov states, not the slow mean mu): the fast
+    wind the flight did not show the smoother (`airwake.estimate.net_interval`)."""
 
     t: np.ndarray
     mean: np.ndarray
@@ -148,6 +150,7 @@ class SmootherResult:
     history: list = field(default_factory=list)
     seconds: float = 0.0
     evaluations: int = 0
+    fast_std: np.ndarray | None = None
 
 
 @dataclass
@@ -1121,13 +1124,15 @@ class WindSmoother:
 
     def _result(self, passes, prior, noise_std, history, seconds) -> SmootherResult:
         n = self.pre.data.t.size
-        out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs")}
+        out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs", "xs")}
         c = self._wind_rows()
         for run, ps, _ in passes:
             out["mean"][run] = ps.ms @ c.T
             out["std"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.ps, c), 0))
             out["fm"][run] = ps.mf @ c.T
             out["fs"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.pf, c), 0))
+            out["xs"][run] = np.sqrt(np.maximum(
+                np.einsum("kii->ki", ps.ps[:, self.xi, self.xi]), 0))
         return SmootherResult(self.pre.data.t.copy(), out["mean"], out["std"], out["fm"],
                               out["fs"], prior, noise_std, history, seconds,
-                              self.evaluations)
+                              self.evaluations, out["xs"])

@@ -143,8 +143,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         est = _run_net(ft, net, ins_velocity_std)
         est.metadata.update(ins.to_dict())
         if interval_model is not None:
+            from airwake.estimate.net_interval import INTERVAL_EM_PASSES
+
             ref = estimate_wind(ft, model=interval_model, cutoff_hz=cutoff_hz,
-                                rate_hz=rate_hz, em_passes=em_passes,
+                                rate_hz=rate_hz, em_passes=(INTERVAL_EM_PASSES
+                                                            if em_passes is None else em_passes),
                                 airspeed_m_s=airspeed_m_s, ins_velocity_std=ins_velocity_std,
                                 channel_scale=channel_scale, progress=progress)
             _widen_by_model(est, ref, interval_model)
@@ -596,18 +599,27 @@ def _run_net(ft, net, ins_velocity_std) -> WindEstimate:
 
 def _widen_by_model(est: WindEstimate, ref: WindEstimate, spec) -> None:
     """The net's mean-flow std joined in quadrature to the local RMS of the model
-    smoother's disagreement with it above the net's band (`airwake.estimate.net_interval`);
-    the smoother's time is counted in the estimate's."""
+    smoother's disagreement with it above the net's band and to the fast wind the
+    smoother did not see either (`airwake.estimate.net_interval`); the smoother's time is
+    counted in the estimate's."""
     from airwake.estimate.errors import WindEstimationError
-    from airwake.estimate.net_interval import HIGHPASS_HZ, MEAN_FLOW, WINDOW_S, disagreement_std
+    from airwake.estimate.net_interval import (
+        HIGHPASS_HZ,
+        MEAN_FLOW,
+        WINDOW_S,
+        disagreement_std,
+        unseen_std,
+    )
 
     try:
         fast = disagreement_std(est.df, ref.df)
+        unseen = unseen_std(est.df["t_s"].to_numpy(float), ref.result)
     except ValueError as exc:
         raise WindEstimationError(f"--interval-model: {exc}") from None
     for j, name in enumerate(MEAN_FLOW):
         col = f"{name}_std"
-        est.df[col] = np.sqrt(est.df[col].to_numpy(float) ** 2 + fast[:, j] ** 2)
+        est.df[col] = np.sqrt(est.df[col].to_numpy(float) ** 2 + fast[:, j] ** 2
+                              + unseen[:, j] ** 2)
     meta = est.metadata
     est.seconds += ref.seconds
     t = est.df["t_s"].to_numpy(float)
@@ -617,12 +629,16 @@ def _widen_by_model(est: WindEstimate, ref: WindEstimate, spec) -> None:
     meta["interval_model"] = str(spec) if not hasattr(spec, "effects") else "<model>"
     meta["interval_fast_std_median_m_s"] = {
         n: float(np.median(fast[:, j])) for j, n in enumerate(MEAN_FLOW)}
+    meta["interval_unseen_std_median_m_s"] = {
+        n: float(np.median(unseen[:, j])) for j, n in enumerate(MEAN_FLOW)}
+    meta["interval_turbulence_sigma_m_s"] = [float(x) for x in ref.result.prior.sigma[:3]]
     meta["std_is"] = (
         "the net's validation RMS per output (model card), INS error added, joined in "
         f"quadrature to the local RMS (Gaussian window, sigma {WINDOW_S:g} s) of the "
         f"difference between the smoother of {meta['interval_model']} and the net above "
-        f"{HIGHPASS_HZ:g} Hz: the wind's fast part the net does not follow, plus the "
-        "smoother's own fast error (docs/networks.md)")
+        f"{HIGHPASS_HZ:g} Hz (the wind's fast part the net does not follow, plus the "
+        "smoother's own fast error) and to the smoother's turbulence posterior std's share "
+        f"above {HIGHPASS_HZ:g} Hz (the fast part neither saw; docs/networks.md)")
 
 
 def _rotor_radius(heli) -> float:
