@@ -42,7 +42,10 @@ slowly from the physics prior's 0.45 m/s, so the interval model's smoother runs
 `INTERVAL_EM_PASSES` passes (0.2 s more per minute of flight each after the two
 relinearised ones): the learned std falls from 0.45 / 0.45 / 0.35 to 0.28 / 0.25 / 0.17 on
 b0 41 (truth 0.14 / 0.18 / 0.20), and six blade-element ship flights cover 0.88-0.98 on
-every component (docs/networks.md "The fast wind neither saw"). The slow part of the
+every component (docs/networks.md "The fast wind neither saw"). The number of passes is
+chosen, not converged: on b0 41 EM still moves after 48 passes and by then has gone below
+the truth's spread on v_y and v_z (the model reads less turbulence than the airframe
+feels, so the likelihood's own optimum is too narrow). The slow part of the
 net's error at sea (0.07-0.24 m/s below 0.1 Hz against its still-air 0.07-0.11) is in
 neither term. Offline only: both windows read the future.
 """
