@@ -196,8 +196,10 @@ def register(subparsers) -> None:
     p.add_argument("--interval-model", default=None, metavar="SPEC",
                    help="net: a calibrated model whose smoother, run on the same flight, "
                    "widens the net's mean-flow interval by their local disagreement above "
-                   "0.1 Hz - the wind's fast part a still-air net does not follow "
-                   "(docs/networks.md); the smoother's options apply to it")
+                   "0.1 Hz - the wind's fast part a still-air net does not follow - and by "
+                   "the fast part its own posterior says it did not see either "
+                   "(docs/networks.md); the smoother's options apply to it (--em-passes: "
+                   "16 for it unless given)")
     p.add_argument("--anchor", default=None, metavar="WIND.parquet",
                    help="smoother: a wind table made without the model (--method net with a "
                    "still-air net, best with --interval-model) whose mean flow, with its "
@@ -209,7 +211,8 @@ def register(subparsers) -> None:
     p.add_argument("--rate-hz", type=float, default=None,
                    help="estimator sample rate after the low-pass (15 Hz smoother, 30 Hz apf)")
     p.add_argument("--em-passes", type=int, default=None,
-                   help="smoother passes (3: 2 relinearising; the prior re-learnt after each)")
+                   help="smoother passes (3: 2 relinearising; the prior re-learnt after each; "
+                   "16 for --interval-model's smoother)")
     p.add_argument("--rotation-sigma", choices=("from-mean-flow", "learned"),
                    default="from-mean-flow",
                    help="smoother: the turbulence std of w_x, w_y set from the mean flow's "

@@ -93,7 +93,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     steady force joined to the model's `model_error_offset` in the intervals.
     interval_model (net): a calibrated model whose smoother's estimate on the same flight
     widens the net's mean-flow interval by the wind's fast part the net cannot see
-    (`airwake.estimate.net_interval`); the smoother's options above apply to it.
+    (`airwake.estimate.net_interval`); the smoother's options above apply to it, its EM
+    passes `net_interval.INTERVAL_EM_PASSES` unless em_passes is given.
     anchor (smoother): a wind table made without the model (`--method net` with a
     still-air net; path or DataFrame) whose mean flow and its std are taken as a
     measurement of v at every sample, so the model reads the rotation given that mean
