@@ -483,8 +483,8 @@ the rotation given it instead of trading it against a biased mean flow.</p>
 <th>90 % interval holds the truth</th><th>the smoother's error mean</th></tr>
 {_rows(net_rows(net_est, est))}</table>
 <p>Its interval: its error in still air joined to the local disagreement of the model's
-smoother with it above 0.1 Hz, the wind's fast part the net does not follow
-(docs/networks.md).</p>
+smoother with it above 0.1 Hz, the wind's fast part the net does not follow, and to the
+fast part the smoother's own posterior says it did not see either (docs/networks.md).</p>
 <h2>The model on this flight</h2>
 <table><tr><th>channel</th><th>RMS, still air</th><th>/ noise</th>
 <th>RMS, estimated wind as input</th><th>/ noise</th></tr>{_rows(model_rows)}</table>

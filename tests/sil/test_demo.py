@@ -81,6 +81,10 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert net["interval_model"] == step0["model"]
     assert "above 0.1 Hz" in net["std_is"]
     assert all(v > 0 for v in net["interval_fast_std_median_m_s"].values())
+    # and the fast wind the smoother did not see either, from its learned turbulence
+    assert all(v > 0 for v in net["interval_unseen_std_median_m_s"].values())
+    assert len(net["interval_turbulence_sigma_m_s"]) == 3
+    assert "did not see either" in html
     rows = net_rows(net, json.loads((out / "wind_estimate.json").read_text()))
     assert [r[0] for r in rows] == ["wind_vx_m_s", "wind_vy_m_s", "wind_vz_m_s"] + [
         f"{n} (the model, given it)" for n in ("wind_wx_rad_s", "wind_wy_rad_s",

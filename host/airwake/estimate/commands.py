@@ -76,9 +76,9 @@ def _handle(args: argparse.Namespace) -> int:
         report["std_is"] = est.metadata["std_is"]
         report["training_envelope_inside"] = est.metadata["training_envelope_inside"]
         if args.interval_model is not None:
-            report.update(interval_model=est.metadata["interval_model"],
-                          interval_fast_std_median_m_s=est.metadata[
-                              "interval_fast_std_median_m_s"])
+            report.update({k: est.metadata[k] for k in (
+                "interval_model", "interval_fast_std_median_m_s",
+                "interval_unseen_std_median_m_s", "interval_turbulence_sigma_m_s")})
     elif args.method == "apf":
         report.update(mean_ess=float(est.df["ess"].mean()),
                       resampled_fraction=float(est.df["resampled"].mean()),
