@@ -308,6 +308,19 @@ def test_a_models_smoother_widens_the_still_air_nets_interval_where_it_misses_th
     widened = wide.df[[f"{n}_std" for n in v]].to_numpy() - alone.df[
         [f"{n}_std" for n in v]].to_numpy()
     assert (widened >= 0).all() and (widened.mean(axis=0) > 0.02).all(), widened.mean(axis=0)
+    # the variance it adds is, sample by sample, the disagreement's and the fast wind the
+    # smoother's posterior did not see (its smoother run with the interval's EM passes)
+    from airwake.estimate.net_interval import INTERVAL_EM_PASSES, disagreement_std, unseen_std
+
+    ref = estimate_wind(ship, wind_baseline, em_passes=INTERVAL_EM_PASSES)
+    fast = disagreement_std(alone.df, ref.df)
+    unseen = unseen_std(alone.df["t_s"].to_numpy(), ref.result)
+    added = (wide.df[[f"{n}_std" for n in v]].to_numpy() ** 2
+             - alone.df[[f"{n}_std" for n in v]].to_numpy() ** 2)
+    np.testing.assert_allclose(added, fast**2 + unseen**2, rtol=1e-6, atol=1e-9)
+    assert (np.median(unseen, axis=0) > 0.01).all()
+    assert wide.metadata["interval_unseen_std_median_m_s"] == pytest.approx(
+        {n: float(np.median(unseen[:, j])) for j, n in enumerate(v)})
     for n in v:
         assert w[n]["coverage_90"] >= a[n]["coverage_90"] + 0.2, (n, a[n], w[n])
         # a bias is no fast part: this 60 s one-flight net reads v_z 0.3 m/s low here
