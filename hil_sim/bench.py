@@ -1,9 +1,11 @@
 """`airwake bench` section "sim": the truth world's speed.
 
-`sim_realtime_factor`: simulated seconds per wall second for `still_air_calibration`
-with every sensor on (integration at 1 kHz + sensors + the flight table), one process;
-the split is reported beside it (`sim_integration_s`, `sim_sensors_s`, `sim_table_s`,
-and the integration's own factor `sim_integration_realtime_factor`).
+`sim_realtime_factor`: simulated seconds per wall second for `still_air_calibration` as
+shipped (the blade-element truth, the crossover pilot) with every sensor on (integration
+at 1 kHz + sensors + the flight table), one process; the split is reported beside it
+(`sim_integration_s`, `sim_sensors_s`, `sim_table_s`, and the integration's own factor
+`sim_integration_realtime_factor`). `sim_effects_realtime_factor`: the same flight on the
+effect truth (our own model, the LQR pilot: what the tests that need it fly).
 The SIL figures (`sil_stepped_realtime_factor`, ...) come from `hil_sim/boards/bench.py`.
 """
 
@@ -35,6 +37,13 @@ def run(quick: bool) -> dict:
         "sim_integration_realtime_factor": round(duration / t["integration"], 3),
         "sim_table_rows": int(len(built.df)),
     }
+    import dataclasses
+
+    ours = dataclasses.replace(scenario, helicopter=dataclasses.replace(
+        scenario.helicopter, model="effects", pilot="full_state"))
+    run_scenario(ours, seed=scenario.seed, duration_s=0.2)
+    figures["sim_effects_realtime_factor"] = round(
+        run_scenario(ours, seed=scenario.seed, duration_s=duration).realtime_factor, 3)
     # the SIL layer's figures (hil_sim/boards/bench.py): boards + daemon, stepped
     try:
         from hil_sim.boards import bench as sil_bench

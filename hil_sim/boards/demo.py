@@ -56,16 +56,14 @@ import sys
 import time
 from pathlib import Path
 
+from hil_sim.world.scenario import TRUTH_PILOTS
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
 CALIBRATION_START = "table52"
 CALIBRATION_WINDOWS = "24"
 # candidates the diagnosis refines (its default): refining fewer can leave a candidate
 # whose nonlinear fit explains nothing ranked above an unrefined one that explains 20 %
 DIAGNOSE_REFINE = "4"
-# who flies each truth: the blade-element machine is flown by the human-like crossover
-# pilot (the premise: a pilot slower than the turbulence), the effect model by the
-# scenario's own pilot
-TRUTH_PILOTS = {"blade_element": "crossover", "effects": None}
 # the wind explains the residual when, given as the model's input, it leaves every channel
 # within this many times its noise floor (the calibration's own floor is ~5x on pdot)
 AIRWAKE_EXPLAINS = 8.0
@@ -171,7 +169,7 @@ def _demo(argv: list[str] | None) -> int:
     p.add_argument("--truth", choices=sorted(TRUTH_PILOTS), default="blade_element",
                    help="the truth helicopter: the independent blade-element machine with "
                    "the crossover pilot (default), or the host's own effect model with the "
-                   "scenario's pilot (our own model: for comparison only)")
+                   "full-state pilot (our own model: for comparison only)")
     args = p.parse_args(argv)
     if args.warm:
         args.duration, args.calibration_s, args.cruise_s = (

@@ -19,6 +19,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from hil_sim.world.scenario import TRUTH_PILOTS
+
 BASE_SCENARIO = "ship_airwake_b0"
 CALIBRATION_SCENARIO = "still_air_calibration"
 TRUTH_MODELS = ("blade_element", "effects")
@@ -88,7 +90,7 @@ def _helicopter_table(truth: str | None) -> dict:
         return {}
     if truth not in TRUTH_MODELS:
         raise ValueError(f"--truth {truth!r}: one of {', '.join(TRUTH_MODELS)}")
-    return {"helicopter": {"model": truth}}
+    return {"helicopter": {"model": truth, "pilot": TRUTH_PILOTS[truth]}}
 
 
 def flight_scenario(f: PlannedFlight, truth: str | None = None,

@@ -73,6 +73,10 @@ class ScenarioError(AirwakeError):
 
 TRUTH_MODELS = ("effects", "blade_element")
 PILOT_MODELS = ("full_state", "crossover")
+# who flies each truth where a command picks the truth: the blade-element airframe the
+# human-like crossover pilot (a pilot slower than the turbulence, as the shipped scenarios
+# say), our own effect model the LQR it was written for
+TRUTH_PILOTS = {"blade_element": "crossover", "effects": "full_state"}
 
 
 @dataclass(frozen=True)

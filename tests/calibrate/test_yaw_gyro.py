@@ -12,6 +12,7 @@ import pytest
 from airwake.calibrate.yaw_gyro import MIN_EXPLAINED, note, yaw_gyro
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from truths import effect_truth
 
 
 def pulses(slope, neutral, n=3000, seed=0, jitter_us=0.5):
@@ -60,7 +61,7 @@ def _flight(model: str):
     from hil_sim.world.run import run_scenario
     from hil_sim.world.scenario import load_scenario
 
-    sc = load_scenario("still_air_calibration")
+    sc = effect_truth(load_scenario("still_air_calibration"))
     sc = dataclasses.replace(sc, helicopter=dataclasses.replace(
         sc.helicopter, model=model, pilot="crossover" if model == "blade_element"
         else sc.helicopter.pilot))

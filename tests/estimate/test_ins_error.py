@@ -25,6 +25,7 @@ from airwake.record.flight_table import load_flight_table
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
+from truths import effect_truth
 
 
 def _flight(shared_path, vel_error, seed):
@@ -36,7 +37,7 @@ def _flight(shared_path, vel_error, seed):
         scenario_file.write_text(
             'extends = "ship_airwake_b15"\n[sensors.vn200]\n'
             f"velocity_error_m_s = [{vel_error}, {vel_error}, {vel_error}]\n")
-        built = run_scenario(load_scenario(scenario_file), duration_s=45.0,
+        built = run_scenario(effect_truth(load_scenario(scenario_file)), duration_s=45.0,
                              seed=seed).flight_table()
         from airwake.record.flight_table import write_flight_table
 

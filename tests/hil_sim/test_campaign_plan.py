@@ -65,7 +65,10 @@ def test_scenarios_load_and_say_what_they_fly(tmp_path):
 def test_truth_helicopter_is_written_only_when_asked():
     f = plan_flights(1, betas=(0,), seed=1)[0]
     assert "helicopter" not in flight_scenario(f)
-    assert flight_scenario(f, truth="blade_element")["helicopter"] == {"model": "blade_element"}
-    assert calibration_scenario("h", 1, truth="effects")["helicopter"] == {"model": "effects"}
+    # each truth with its pilot (the shipped scenarios name the crossover pilot)
+    assert flight_scenario(f, truth="blade_element")["helicopter"] == {
+        "model": "blade_element", "pilot": "crossover"}
+    assert calibration_scenario("h", 1, truth="effects")["helicopter"] == {
+        "model": "effects", "pilot": "full_state"}
     with pytest.raises(ValueError, match="--truth 'wood'"):
         flight_scenario(f, truth="wood")

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 from airwake.heli import HeliModel
+from truths import effect_truth
 from world_helpers import short_scenario
 
 from hil_sim.world.hidden import (
@@ -137,7 +138,7 @@ def test_deck_edge_weakens_the_ground_effect_as_the_disk_leaves_the_deck():
     assert deck_height_equivalent(np.full(25, 0.7), radius, cfg) == pytest.approx(0.7)
     mixed = np.where(np.arange(25) % 2 == 0, 0.7, 2.2)
     assert 0.7 < deck_height_equivalent(mixed, radius, cfg) < 2.2
-    sc = load_scenario("ship_airwake_b0")
+    sc = effect_truth(load_scenario("ship_airwake_b0"))
     sc = dataclasses.replace(sc, hidden=HiddenConfig(ground_effect=cfg))
     ship = Ship(sc.ship)
     height_of = _height_function(sc, ship, radius)

@@ -52,6 +52,23 @@ def test_clean_scenarios_have_no_hidden_effect_and_ship_ones_fly_in_the_ship_fra
         assert sc.wind["relative_wind_heading_deg"] == beta
 
 
+def test_shipped_scenarios_fly_the_blade_element_truth_and_hidden_ones_our_own_model(tmp_path):
+    # the truth a user's flight of a shipped scenario gets is not our model; a hidden
+    # effect is a catalogue effect, so it rides on the effect truth (docs/truth-world.md)
+    for name in REQUIRED:
+        heli = load_scenario(name).helicopter
+        want = (("effects", "full_state") if name in HIDDEN_OF
+                else ("blade_element", "crossover"))
+        assert (heli.model, heli.pilot) == want, name
+    # a file that extends a shipped scenario inherits its truth and pilot
+    child = write(tmp_path, 'extends = "ship_airwake_b0"\nseed = 3\n')
+    assert load_scenario(child).helicopter.model == "blade_element"
+    # and the commands' --truth brings its own pilot (the demo's, the campaign's)
+    from hil_sim.boards.demo import truth_arguments
+
+    assert truth_arguments("effects")[-2:] == ["--pilot", "full_state"]
+
+
 def test_scenario_found_by_path_and_extends_resolves_relative_to_the_file(tmp_path):
     base = write(tmp_path, 'duration_s = 10.0\nseed = 4\n[wind]\ntype = "still_air"\n',
                  "base.toml")

@@ -18,9 +18,13 @@ def scenario_table(name: str = "still_air_calibration") -> dict:
 
 
 def short_scenario(base: str = "still_air_calibration", *, segments=None, hidden=None,
-                   duration_s: float = 4.0, seed: int = 5, **top):
-    """A shipped scenario with its script, hidden effects and duration replaced."""
+                   duration_s: float = 4.0, seed: int = 5, effect_truth: bool = True, **top):
+    """A shipped scenario with its script, hidden effects and duration replaced; flown by
+    the effect truth and its LQR pilot unless `effect_truth=False` (these tests check the
+    truth world's own parts: wind, sensors, hidden effects, the recorded inputs)."""
     t = copy.deepcopy(scenario_table(base))
+    if effect_truth:
+        t.setdefault("helicopter", {}).update(model="effects", pilot="full_state")
     if segments is not None:
         t["pilot"]["segments"] = segments
     if hidden is not None:

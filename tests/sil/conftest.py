@@ -30,6 +30,11 @@ CLEAN_SCENARIO = """
 extends = "still_air_calibration"
 description = "SIL test flight: hover, then the lateral chirp"
 
+# the boards and the daemon: plumbing, on the effect truth (docs/truth-world.md)
+[helicopter]
+model = "effects"
+pilot = "full_state"
+
 [[pilot.segments]]
 type = "hover"
 duration_s = 4.0

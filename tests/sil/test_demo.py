@@ -166,7 +166,8 @@ def test_bound_verdict_names_the_components_the_estimator_limits():
 def test_truth_arguments_fly_each_truth_with_its_pilot():
     assert truth_arguments("blade_element") == ["--truth", "blade_element", "--pilot",
                                                 "crossover"]
-    assert truth_arguments("effects") == ["--truth", "effects"]
+    # the shipped scenarios name the crossover pilot: our own model gets its LQR back
+    assert truth_arguments("effects") == ["--truth", "effects", "--pilot", "full_state"]
     with pytest.raises(ValueError, match="'jsbsim'"):
         truth_arguments("jsbsim")
 

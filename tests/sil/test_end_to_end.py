@@ -22,6 +22,7 @@ from sil_harness import (
     sim_time,
     summary,
 )
+from truths import effect_truth
 
 BOARDS = {"losa", "marker", "rover", "base"}
 # what each board must deliver in a hall flight (no GNSS indoors, no ship INS)
@@ -117,7 +118,7 @@ def _noise(scenario_name: str):
     (density x sqrt(rate)) and the rotor vibration (sum of sine amplitudes^2 / 2)."""
     from hil_sim.world.scenario import load_scenario, vibration_for
 
-    sc = load_scenario(scenario_name)
+    sc = effect_truth(load_scenario(scenario_name))
     vn = sc.sensors.vn200
     imu = vn.imu
     vib = vibration_for(sc.sensors)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from airwake.cli import main
+from truths import effect_truth
 
 SIL_S = 6.0
 SCENARIO = """
@@ -48,7 +49,7 @@ def net_flight(truth_world_flight, tmp_path_factory):
 
 
     (d / "sc.toml").write_text(SCENARIO)
-    sc = load_scenario(d / "sc.toml")
+    sc = effect_truth(load_scenario(d / "sc.toml"))
     run = SilRun(sc, out=d / "rec", duration_s=SIL_S, rig=rig_for(sc, ("rover", "base")),
                  net=net, wind_net=wind)  # `airwake sim run --net --wind-net`
     try:

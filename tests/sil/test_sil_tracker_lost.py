@@ -17,6 +17,7 @@ from airwake.record.flight_table import load_flight_table, validate_flight_table
 from airwake.record.marker_pose import POSE_COLUMNS
 from airwake.record.reader import open_recording
 from sil_harness import run_flight, shared_flight, sim_time, summary
+from truths import effect_truth
 
 from hil_sim.boards.feeds import tracker_axes_ned
 
@@ -59,7 +60,7 @@ def out_of_view(tmp_path_factory):
 
         path = d / "out_of_view.toml"
         path.write_text(SCENARIO)
-        sc = load_scenario(path)
+        sc = effect_truth(load_scenario(path))
         run_flight(d, sc, duration_s=OUT_OF_VIEW_S, rig=rig_for(sc, ("losa", "marker")))
 
     return shared_flight(tmp_path_factory, "out-of-view", make)

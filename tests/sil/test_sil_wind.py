@@ -9,6 +9,7 @@ from airwake.estimate.map_report import make_map
 from airwake.heli import WIND_NAMES
 from airwake.record.flight_table import FlightTable, load_flight_table
 from sil_harness import run_flight, shared_flight
+from truths import effect_truth
 
 SIL_S = 40.0
 
@@ -18,7 +19,8 @@ def sil_ship(tmp_path_factory):
     def make(d):
         from hil_sim.world.scenario import load_scenario
 
-        run_flight(d, load_scenario("ship_airwake_b0"), duration_s=SIL_S, seed=44)
+        run_flight(d, effect_truth(load_scenario("ship_airwake_b0")), duration_s=SIL_S,
+                   seed=44)
 
     d = shared_flight(tmp_path_factory, "ship-wind", make)
     from hil_sim.boards.sil import add_truth
