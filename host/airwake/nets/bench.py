@@ -1,5 +1,6 @@
 """`airwake bench` section "nets": the rate network on 60 s of a 150 Hz truth-world
-still-air flight (seed 7), one torch thread.
+still-air flight (seed 7; the shipped scenario's truth: the blade-element airframe and
+the crossover pilot), one torch thread.
 
 Keys: nets_train_s (features, split, ARX and AdamW training to early stop; target
 < 60 s), nets_infer_realtime_factor (flight seconds per second of `predict`: features +
