@@ -14,6 +14,7 @@ import pytest
 from airwake.cli import main
 from airwake.estimate.errors import WindEstimationError
 from airwake.estimate.wind import (
+    STILL_AIR_BIAS_KEY,
     STILL_AIR_KEY,
     WIND_NAMES,
     estimate_wind,
@@ -131,8 +132,15 @@ def test_calibrate_writes_what_its_estimate_misses_on_the_flight(tiny_wind_file,
     out = tmp_path / "cal.toml"
     assert main(["calibrate", str(tiny_wind_file), "--model", "table52", "--max-nfev", "3",
                  "--params", "fuselage.cx_m2", "--out", str(out), "--json"]) == 0
-    json.loads(capsys.readouterr().out)
+    report = json.loads(capsys.readouterr().out)
     cal = spec_calibration(out)
+    # beside it, the plain estimate's steady error there and the channels that make it
+    bias = cal[STILL_AIR_BIAS_KEY]
+    assert report[STILL_AIR_BIAS_KEY] == bias
+    assert set(bias["by_channel"]) == set(WIND_NAMES)
+    assert all(len(v) == 6 for v in bias["by_channel"].values())
+    np.testing.assert_allclose(bias["explained"], [sum(bias["by_channel"][n])
+                                                   for n in WIND_NAMES], rtol=1e-9)
     written = cal[STILL_AIR_KEY]
     assert set(written) == {"smoother", "anchored"}
     for v in written.values():

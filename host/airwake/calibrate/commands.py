@@ -16,7 +16,8 @@ def _fmt(v: float) -> str:
     return f"{v:.6g}"
 
 
-def print_report(result, out_path, stream=None) -> None:
+def print_report(result, out_path, stream=None, bias: dict | None = None) -> None:
+    """The calibration report; `bias`: the [calibration] table's `still_air_wind_bias`."""
     from airwake.heli.context import MEAS_CHANNELS
 
     info = result.info
@@ -52,8 +53,28 @@ def print_report(result, out_path, stream=None) -> None:
         w("\nwind components this model can be trusted for (the flight's envelope):\n")
         for comp, t in trust.items():
             w(f"  {comp}: {'trusted' if t['trusted'] else 'NOT trusted'} - {t['why']}\n")
+    if bias:
+        print_wind_bias(bias, w)
     if out_path:
         w(f"\nwrote {out_path}\n")
+
+
+def print_wind_bias(bias: dict, w, top: int = 2) -> None:
+    """The still-air wind estimate's steady error and the channels whose steady misfit
+    makes it (`airwake.estimate.wind.wind_bias_by_channel`), largest first."""
+    from airwake.heli import WIND_NAMES
+
+    w("\nthe wind estimate's steady error on this still air (plain smoother) and the "
+      "model's\nsteady misfit that makes it (what to fix first for the wind):\n")
+    chans = bias["channels"]
+    w("  misfit " + ", ".join(f"{c} {m:+.3g}" for c, m in zip(chans, bias["misfit_mean"],
+                                                         strict=True)) + "\n")
+    for j, name in enumerate(WIND_NAMES):
+        shares = bias["by_channel"][name]
+        order = sorted(range(len(chans)), key=lambda k: -abs(shares[k]))[:top]
+        parts = ", ".join(f"{chans[k]} {shares[k]:+.2f}" for k in order)
+        w(f"  {name:<14}{bias['error_mean'][j]:+7.2f}  (steady misfit: "
+          f"{bias['explained'][j]:+.2f}; {parts})\n")
 
 
 def calibration_table(result, flight, start) -> dict:
@@ -83,15 +104,18 @@ def calibration_table(result, flight, start) -> dict:
 
 
 def add_still_air_wind_error(table: dict, model, flight) -> None:
-    """Adds `still_air_wind_error` to a [calibration] table (`airwake.estimate.wind`);
-    where the smoother cannot run on the flight, says so on stderr and leaves it out (the
-    calibration itself is kept)."""
+    """Adds `still_air_wind_error` and `still_air_wind_bias` (the plain estimate's steady
+    error there, channel by channel) to a [calibration] table (`airwake.estimate.wind`);
+    where the smoother cannot run on the flight, says so on stderr and leaves them out
+    (the calibration itself is kept)."""
     from airwake.estimate.errors import WindEstimationError
-    from airwake.estimate.wind import STILL_AIR_KEY, still_air_wind_error
+    from airwake.estimate.wind import STILL_AIR_BIAS_KEY, STILL_AIR_KEY, still_air_report
 
     table.pop(STILL_AIR_KEY, None)
+    table.pop(STILL_AIR_BIAS_KEY, None)
     try:
-        table[STILL_AIR_KEY] = still_air_wind_error(model, flight, table)
+        table[STILL_AIR_KEY], table[STILL_AIR_BIAS_KEY] = still_air_report(model, flight,
+                                                                           table)
     except WindEstimationError as exc:
         print(f"airwake: warning: no still_air_wind_error in the spec (the wind "
               f"estimate's intervals will not carry it): {exc}", file=sys.stderr)
@@ -99,6 +123,7 @@ def add_still_air_wind_error(table: dict, model, flight) -> None:
 
 def _handle(args: argparse.Namespace) -> int:
     from airwake.calibrate import calibrate
+    from airwake.estimate.wind import STILL_AIR_BIAS_KEY
     from airwake.heli import check_spec_path, save_spec
 
     check_spec_path(args.out)
@@ -111,17 +136,19 @@ def _handle(args: argparse.Namespace) -> int:
         progress=sys.stderr.isatty() or args.progress)
     desc = (f"calibrated by airwake calibrate --method {args.method} from {args.flight} "
             f"(start {args.model})")
-    path = save_spec(result.model, args.out, description=desc, calibration=calibration_table(
-        result, args.flight, args.model))
+    table = calibration_table(result, args.flight, args.model)
+    path = save_spec(result.model, args.out, description=desc, calibration=table)
     info = result.info
+    bias = table.get(STILL_AIR_BIAS_KEY)
     if args.json:
         print(json.dumps({**result.to_dict(), "spec": str(path),
                           "held": info.get("held", []), "front_end": info.get("front_end"),
                           "envelope": info.get("envelope"),
                           "wind_trust": info.get("wind_trust"),
-                          "yaw_gyro": info.get("yaw_gyro")}, indent=2))
+                          "yaw_gyro": info.get("yaw_gyro"),
+                          STILL_AIR_BIAS_KEY: bias}, indent=2))
     else:
-        print_report(result, path)
+        print_report(result, path, bias=bias)
     return 0
 
 

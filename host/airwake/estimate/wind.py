@@ -246,6 +246,8 @@ def _six_at_least_zero(values, where: str, per: str) -> np.ndarray:
 
 STILL_AIR_KEY = "still_air_wind_error"
 STILL_AIR_MODES = ("smoother", "anchored")
+# [calibration] key of the plain smoother's steady still-air error, channel by channel
+STILL_AIR_BIAS_KEY = "still_air_wind_bias"
 
 
 def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict:
@@ -272,6 +274,20 @@ def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict
     0.35 1/s free, 0 / 0 tied, while at sea its w_y bias is -0.2 ... -0.5).
     Returns {"smoother": [6], "anchored": [6]}; WindEstimationError where the smoother
     cannot run on the flight."""
+    plain, anchored = _still_air_runs(model, flight, calibration)
+    return {"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)}
+
+
+def still_air_report(model, flight, calibration: dict | None = None) -> tuple[dict, dict]:
+    """(`still_air_wind_error`'s table, `wind_bias_by_channel` of its plain run): what
+    `airwake calibrate` and `airwake model add` write, from one pair of smoother runs."""
+    plain, anchored = _still_air_runs(model, flight, calibration)
+    return ({"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)},
+            wind_bias_by_channel(plain))
+
+
+def _still_air_runs(model, flight, calibration):
+    """The plain and the anchored estimate on a still-air flight (still_air_wind_error)."""
     import pandas as pd
 
     from airwake.calibrate import load_flight
@@ -290,7 +306,51 @@ def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict
                          **{f"{n}_std": np.full_like(t, ins) for n in WIND_NAMES[:3]}})
     anchored = estimate_wind(ft, model=model, calibration=table, anchor=zero,
                              rotation_from_mean_flow=False)
-    return {"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)}
+    return plain, anchored
+
+
+def wind_bias_by_channel(est, wind=None, burn_in_s: float | None = None) -> dict:
+    """Where a smoother estimate's steady error comes from, channel by channel, on a
+    flight whose wind is known: zero (still air, `wind` None) or `wind` (n, 6) at the
+    estimate's rows.
+
+    The smoother reads six wind components from six channels, so a steady misfit of the
+    model on any channel lands in the wind, through the inverse of the model's
+    sensitivities. m_j, the model's mean misfit on channel j at the known wind (measured
+    minus `WindSmoother.open_loop`), moves the smoothed estimate by S_kcj m_j at sample k
+    (`WindSmoother.offset_sensitivity`, exact for the last pass's linearisation); the mean
+    over the samples after `burn_in_s` (default `SCORE_BURN_IN_S`) is channel j's share
+    of component c's steady error. What the shares do not explain is the misfit that
+    changes along the flight (its regimes). Returns {"channels": the six channel names,
+    "misfit_mean": (6,), "error_mean": (6,) the estimate's mean error, "explained": (6,)
+    the shares' sum, "by_channel": {component: (6,) shares}} (lists of floats).
+    WindEstimationError for an estimate with no smoother (the APF's, the net's)."""
+    from airwake.estimate.errors import WindEstimationError
+    from airwake.heli.context import MEAS_CHANNELS
+
+    sm = getattr(est, "smoother", None)
+    if sm is None:
+        raise WindEstimationError("wind_bias_by_channel: needs the smoother's estimate "
+                                  "(its sensitivities); this one has none")
+    t = np.asarray(est.df["t_s"], float)
+    known = np.zeros((t.size, 6)) if wind is None else np.asarray(wind, float)
+    if known.shape != (t.size, 6):
+        raise WindEstimationError(f"wind_bias_by_channel: the known wind is {known.shape}, "
+                                  f"the estimate has {t.size} rows of 6 components")
+    misfit = sm.pre.data.z - sm.open_loop(known)
+    burn = SCORE_BURN_IN_S if burn_in_s is None else float(burn_in_s)
+    est_w = np.column_stack([np.asarray(est.df[n], float) for n in WIND_NAMES])
+    keep = (t >= t[0] + burn) & np.all(np.isfinite(misfit), 1) & np.all(np.isfinite(est_w), 1)
+    if not keep.any():
+        raise WindEstimationError("wind_bias_by_channel: no sample with a finite misfit "
+                                  "after the burn-in")
+    m = misfit[keep].mean(0)
+    sens = sm.offset_sensitivity()[keep]
+    shares = np.nanmean(sens * m[None, None, :], axis=0)
+    return {"channels": list(MEAS_CHANNELS), "misfit_mean": m.tolist(),
+            "error_mean": (est_w - known)[keep].mean(0).tolist(),
+            "explained": shares.sum(1).tolist(),
+            "by_channel": {n: shares[c].tolist() for c, n in enumerate(WIND_NAMES)}}
 
 
 def excess_error(wind_df, truth=None, burn_in_s: float | None = None) -> list[float]:
