@@ -446,6 +446,7 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
                  + _rows((ch, f"{b[ch]:.4f}", f"{a[ch]:.4f}") for ch in b) + "</table>")
     trust = calib.get("wind_trust") or {}
     trust_rows = [(k, "yes" if v["trusted"] else "NO", v["why"]) for k, v in trust.items()]
+    bias = still_air_bias_section(calib.get("still_air_wind_bias"))
     page = f"""<!doctype html><html><head><meta charset="utf-8"><title>airwake demo</title>
 <style>body{{font-family:sans-serif;max-width:62em;margin:2em auto}}img{{max-width:100%}}
 table{{border-collapse:collapse;margin:.5em 0}}td,th{{border:1px solid #ccc;padding:.2em .6em}}
@@ -494,6 +495,7 @@ fast part the smoother's own posterior says it did not see either (docs/networks
 {calib.get('rms_after_all', float('nan')):.4f}). <b>airwake model diagnose</b> on the same
 flight: {html.escape(step['diagnosis'])} (ranked: {html.escape(step['ranked'])}).
 {html.escape(step['why'])}.</p>{added}
+{bias}
 <p>Wind components it can be trusted for:</p>
 <table><tr><th>component</th><th>trusted</th><th>why</th></tr>{_rows(trust_rows)}</table>
 </body></html>
@@ -501,6 +503,27 @@ flight: {html.escape(step['diagnosis'])} (ranked: {html.escape(step['ranked'])})
     path = report / "index.html"
     path.write_text(page)
     return path
+
+
+def still_air_bias_section(bias: dict | None, top: int = 2) -> str:
+    """The calibrated model's steady wind error on its still-air flight and the channels
+    whose steady misfit makes it (`airwake calibrate`'s still_air_wind_bias), as HTML."""
+    if not bias:
+        return ""
+    chans = bias["channels"]
+    rows = []
+    for j, (name, shares) in enumerate(bias["by_channel"].items()):
+        order = sorted(range(len(chans)), key=lambda k: -abs(shares[k]))[:top]
+        rows.append((name, f"{bias['error_mean'][j]:+.2f}", f"{bias['explained'][j]:+.2f}",
+                     ", ".join(f"{chans[k]} {shares[k]:+.2f}" for k in order)))
+    misfit = ", ".join(f"{c} {m:+.3g}" for c, m in zip(chans, bias["misfit_mean"],
+                                                        strict=True))
+    return ("<p>In still air, where the wind is zero, the calibrated model's own wind "
+            "estimate (the plain smoother) errs steadily, and the model's steady misfit on "
+            "each channel makes a share of it (what to fix first for the wind; "
+            f"docs/calibration.md). Its steady misfit: {html.escape(misfit)}.</p>"
+            "<table><tr><th>component</th><th>steady error</th><th>made by the steady "
+            "misfit</th><th>largest shares</th></tr>" + _rows(rows) + "</table>")
 
 
 if __name__ == "__main__":

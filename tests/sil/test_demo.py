@@ -113,6 +113,13 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
                     if step["after"][c] > step["before"][c] * 1.01]
     else:
         assert step["model"] == str(out / "baseline.toml")
+    # the calibrated model's steady wind error in still air, and the channels that make it
+    from hil_sim.boards.demo import still_air_bias_section
+
+    bias = spec_calibration(out / "baseline.toml")["still_air_wind_bias"]
+    assert len(bias["by_channel"]) == 6
+    section = still_air_bias_section(bias)
+    assert section.count("<tr>") == 7 and section in html
     for f in ("mean_flow.png", "turbulence.png", "coverage.png"):
         assert (out / "report" / f).stat().st_size > 0 and f in html
     # a real browser opens the report and the map's page with every figure loaded
