@@ -193,11 +193,13 @@ def _scenarios(args) -> int:
     for name in scenario_names():
         sc = load_scenario(name)
         rows.append({"name": name, "duration_s": sc.duration_s, "site": sc.site.type,
-                     "wind": sc.wind.get("type"), "description": sc.description})
+                     "wind": sc.wind.get("type"), "truth": sc.helicopter.model,
+                     "pilot": sc.helicopter.pilot, "description": sc.description})
     if args.json:
         print(json.dumps(rows, indent=2))
     else:
+        width = max(len(r["name"]) for r in rows)
         for r in rows:
-            print(f"{r['name']:28s} {r['duration_s']:7.0f} s  {r['site']:5s} "
-                  f"{r['wind']:12s} {r['description']}")
+            print(f"{r['name']:{width}s} {r['duration_s']:5.0f} s  {r['site']:5s} "
+                  f"{r['wind']:12s} {r['truth']:13s} {r['pilot']:10s} {r['description']}")
     return 0

@@ -69,6 +69,22 @@ def test_shipped_scenarios_fly_the_blade_element_truth_and_hidden_ones_our_own_m
     assert truth_arguments("effects")[-2:] == ["--pilot", "full_state"]
 
 
+def test_sim_scenarios_lists_who_flies_each(capsys):
+    import json
+
+    from airwake.cli import main
+
+    assert main(["sim", "scenarios", "--json"]) == 0
+    rows = {r["name"]: r for r in json.loads(capsys.readouterr().out)}
+    for name in REQUIRED:
+        heli = load_scenario(name).helicopter
+        assert (rows[name]["truth"], rows[name]["pilot"]) == (heli.model, heli.pilot)
+    assert main(["sim", "scenarios"]) == 0
+    line = next(s for s in capsys.readouterr().out.splitlines()
+                if s.startswith("ship_airwake_b0 "))
+    assert "blade_element crossover" in line
+
+
 def test_scenario_found_by_path_and_extends_resolves_relative_to_the_file(tmp_path):
     base = write(tmp_path, 'duration_s = 10.0\nseed = 4\n[wind]\ntype = "still_air"\n',
                  "base.toml")
