@@ -56,8 +56,6 @@ import sys
 import time
 from pathlib import Path
 
-from hil_sim.world.scenario import TRUTH_PILOTS
-
 REPO_ROOT = Path(__file__).resolve().parents[2]
 CALIBRATION_START = "table52"
 CALIBRATION_WINDOWS = "24"
@@ -166,6 +164,8 @@ def _demo(argv: list[str] | None) -> int:
     p.add_argument("--cruise-s", type=float, default=CRUISE_S,
                    help="length of the still-air cruise flight the still-air wind net "
                    f"learns from (default {CRUISE_S:g} s)")
+    from hil_sim.world.scenario import TRUTH_PILOTS
+
     p.add_argument("--truth", choices=sorted(TRUTH_PILOTS), default="blade_element",
                    help="the truth helicopter: the independent blade-element machine with "
                    "the crossover pilot (default), or the host's own effect model with the "
@@ -283,6 +283,8 @@ def still_air_net_step(out: Path, flight: Path, model: Path, train_job) -> tuple
 
 def truth_arguments(truth: str) -> list[str]:
     """The `airwake sim` options that fly `truth` with its pilot."""
+    from hil_sim.world.scenario import TRUTH_PILOTS
+
     if truth not in TRUTH_PILOTS:
         raise ValueError(f"truth {truth!r}: one of {sorted(TRUTH_PILOTS)}")
     pilot = TRUTH_PILOTS[truth]

@@ -19,8 +19,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hil_sim.world.scenario import TRUTH_PILOTS
-
 BASE_SCENARIO = "ship_airwake_b0"
 CALIBRATION_SCENARIO = "still_air_calibration"
 TRUTH_MODELS = ("blade_element", "effects")
@@ -86,6 +84,9 @@ def plan_flights(n: int, betas, seed: int, helicopters: int = 1, speed_m_s: floa
 
 
 def _helicopter_table(truth: str | None) -> dict:
+    # (imported here: the CLI builds its parser from this module, and must stay light)
+    from hil_sim.world.scenario import TRUTH_PILOTS
+
     if truth is None:
         return {}
     if truth not in TRUTH_MODELS:

@@ -44,6 +44,9 @@ def test_a_steady_channel_offset_is_that_channels_misfit_and_moves_the_wind_by_i
     np.testing.assert_allclose(d_expl, share_x - [clean["by_channel"][n][0]
                                                   for n in WIND_NAMES],
                                atol=0.1 * np.max(np.abs(d_err)))
+    # and on the one flight, the shares' sum is the estimate's steady error
+    err = np.asarray(off["error_mean"])
+    np.testing.assert_allclose(off["explained"], err, atol=0.1 * np.max(np.abs(err)))
     # on the model's own flight at its wind, the steady misfit is the sensors' noise
     assert np.all(np.abs(clean["misfit_mean"]) < np.abs(dm[0]))
 
@@ -53,6 +56,10 @@ def test_an_estimate_without_the_smoother_or_with_a_misshapen_wind_is_refused(
     est, _ = _bias(constant_wind_flight, tmp_path, "shape")
     with pytest.raises(WindEstimationError, match=r"known wind is \(3, 6\)"):
         wind_bias_by_channel(est, np.zeros((3, 6)))
+    gap = np.zeros((len(est.df), 6))
+    gap[5, 2] = np.nan
+    with pytest.raises(WindEstimationError, match="non-finite values in 1 rows"):
+        wind_bias_by_channel(est, gap)
     est.smoother = None
     with pytest.raises(WindEstimationError, match="needs the smoother's estimate"):
         wind_bias_by_channel(est)

@@ -114,8 +114,9 @@ def add_still_air_wind_error(table: dict, model, flight) -> None:
     table.pop(STILL_AIR_KEY, None)
     table.pop(STILL_AIR_BIAS_KEY, None)
     try:
-        table[STILL_AIR_KEY], table[STILL_AIR_BIAS_KEY] = still_air_report(model, flight,
-                                                                           table)
+        table[STILL_AIR_KEY], bias = still_air_report(model, flight, table)
+        if bias is not None:
+            table[STILL_AIR_BIAS_KEY] = bias
     except WindEstimationError as exc:
         print(f"airwake: warning: no still_air_wind_error in the spec (the wind "
               f"estimate's intervals will not carry it): {exc}", file=sys.stderr)

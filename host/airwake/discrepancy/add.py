@@ -108,6 +108,8 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
 
     table = dict(spec_calibration(start_spec) or {})
     table["added_effects"] = [*table.get("added_effects", []), effect]
+    # which channel made the old model's still-air wind error says nothing of the new one's
+    table.pop("still_air_wind_bias", None)
     if wind is None and not isinstance(flight, np.ndarray):
         try:
             rms, offset = model_error(new_model, flight)

@@ -279,11 +279,19 @@ def still_air_wind_error(model, flight, calibration: dict | None = None) -> dict
 
 
 def still_air_report(model, flight, calibration: dict | None = None) -> tuple[dict, dict]:
-    """(`still_air_wind_error`'s table, `wind_bias_by_channel` of its plain run): what
-    `airwake calibrate` and `airwake model add` write, from one pair of smoother runs."""
+    """(`still_air_wind_error`'s table, `wind_bias_by_channel` of its plain run, or None
+    where that cannot be measured): what `airwake calibrate` and `airwake model add`
+    write, from one pair of smoother runs (the rotation's prior learned on its own, as
+    `still_air_wind_error` runs them)."""
+    from airwake.estimate.errors import WindEstimationError
+
     plain, anchored = _still_air_runs(model, flight, calibration)
-    return ({"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)},
-            wind_bias_by_channel(plain))
+    excess = {"smoother": excess_error(plain.df), "anchored": excess_error(anchored.df)}
+    try:
+        bias = wind_bias_by_channel(plain)
+    except (WindEstimationError, *MODEL_FAILURES):
+        bias = None  # a diagnostic: the excess, which the intervals need, is kept
+    return excess, bias
 
 
 def _still_air_runs(model, flight, calibration):
@@ -337,6 +345,9 @@ def wind_bias_by_channel(est, wind=None, burn_in_s: float | None = None) -> dict
     if known.shape != (t.size, 6):
         raise WindEstimationError(f"wind_bias_by_channel: the known wind is {known.shape}, "
                                   f"the estimate has {t.size} rows of 6 components")
+    if not np.all(np.isfinite(known)):
+        raise WindEstimationError("wind_bias_by_channel: the known wind has non-finite "
+                                  f"values in {int(np.sum(~np.isfinite(known).all(1)))} rows")
     misfit = sm.pre.data.z - sm.open_loop(known)
     burn = SCORE_BURN_IN_S if burn_in_s is None else float(burn_in_s)
     est_w = np.column_stack([np.asarray(est.df[n], float) for n in WIND_NAMES])
@@ -346,6 +357,9 @@ def wind_bias_by_channel(est, wind=None, burn_in_s: float | None = None) -> dict
                                   "after the burn-in")
     m = misfit[keep].mean(0)
     sens = sm.offset_sensitivity()[keep]
+    if not np.isfinite(sens).all(2).all(1).any():
+        raise WindEstimationError("wind_bias_by_channel: the smoother made no channel "
+                                  "update after the burn-in (no sensitivity)")
     shares = np.nanmean(sens * m[None, None, :], axis=0)
     return {"channels": list(MEAS_CHANNELS), "misfit_mean": m.tolist(),
             "error_mean": (est_w - known)[keep].mean(0).tolist(),
