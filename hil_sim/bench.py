@@ -37,10 +37,7 @@ def run(quick: bool) -> dict:
         "sim_integration_realtime_factor": round(duration / t["integration"], 3),
         "sim_table_rows": int(len(built.df)),
     }
-    import dataclasses
-
-    ours = dataclasses.replace(scenario, helicopter=dataclasses.replace(
-        scenario.helicopter, model="effects", pilot="full_state"))
+    ours = scenario.with_helicopter(model="effects", pilot="full_state")
     run_scenario(ours, seed=scenario.seed, duration_s=0.2)
     figures["sim_effects_realtime_factor"] = round(
         run_scenario(ours, seed=scenario.seed, duration_s=duration).realtime_factor, 3)

@@ -45,10 +45,7 @@ def load_scenario_from_args(args):
     changes = {k: v for k, v in (("model", getattr(args, "truth", None)),
                                  ("pilot", getattr(args, "pilot", None))) if v is not None}
     if changes:
-        import dataclasses
-
-        scenario = dataclasses.replace(
-            scenario, helicopter=dataclasses.replace(scenario.helicopter, **changes))
+        scenario = scenario.with_helicopter(**changes)
     return scenario, seed, duration
 
 

@@ -11,11 +11,8 @@ EFFECT_TRUTH = ("effects", "full_state")
 
 def effect_truth(scenario):
     """The scenario (a Scenario, a name or a path) flown by the effect truth and its pilot."""
-    import dataclasses
-
     from hil_sim.world.scenario import load_scenario
 
     sc = load_scenario(scenario) if isinstance(scenario, str | Path) else scenario
     model, pilot = EFFECT_TRUTH
-    return dataclasses.replace(sc, helicopter=dataclasses.replace(
-        sc.helicopter, model=model, pilot=pilot))
+    return sc.with_helicopter(model=model, pilot=pilot)

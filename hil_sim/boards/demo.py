@@ -512,12 +512,12 @@ def still_air_bias_section(bias: dict | None, top: int = 2) -> str:
     whose steady misfit makes it (`airwake calibrate`'s still_air_wind_bias), as HTML."""
     if not bias:
         return ""
+    from airwake.estimate.wind import largest_shares
+
     chans = bias["channels"]
-    rows = []
-    for j, (name, shares) in enumerate(bias["by_channel"].items()):
-        order = sorted(range(len(chans)), key=lambda k: -abs(shares[k]))[:top]
-        rows.append((name, f"{bias['error_mean'][j]:+.2f}", f"{bias['explained'][j]:+.2f}",
-                     ", ".join(f"{chans[k]} {shares[k]:+.2f}" for k in order)))
+    rows = [(name, f"{error:+.2f}", f"{explained:+.2f}",
+             ", ".join(f"{c} {s:+.2f}" for c, s in top_shares))
+            for name, error, explained, top_shares in largest_shares(bias, top)]
     misfit = ", ".join(f"{c} {m:+.3g}" for c, m in zip(chans, bias["misfit_mean"],
                                                         strict=True))
     return ("<p>In still air, where the wind is zero, the calibrated model's own wind "

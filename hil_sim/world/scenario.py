@@ -271,6 +271,13 @@ class Scenario:
             _check_top(key, value)
         return dataclasses.replace(self, **changes)
 
+    def with_helicopter(self, **changes) -> Scenario:
+        """A copy with `[helicopter]` values changed (model, pilot, ...; validated like
+        the file's): who flies it, e.g. `with_helicopter(model="effects",
+        pilot="full_state")` for our own model."""
+        return dataclasses.replace(self, helicopter=dataclasses.replace(self.helicopter,
+                                                                        **changes))
+
     @property
     def rtk_enabled(self) -> bool:
         if self.sensors.rtk_enabled is not None:

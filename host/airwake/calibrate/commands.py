@@ -62,19 +62,16 @@ def print_report(result, out_path, stream=None, bias: dict | None = None) -> Non
 def print_wind_bias(bias: dict, w, top: int = 2) -> None:
     """The still-air wind estimate's steady error and the channels whose steady misfit
     makes it (`airwake.estimate.wind.wind_bias_by_channel`), largest first."""
-    from airwake.heli import WIND_NAMES
+    from airwake.estimate.wind import largest_shares
 
     w("\nthe wind estimate's steady error on this still air (plain smoother) and the "
       "model's\nsteady misfit that makes it (what to fix first for the wind):\n")
     chans = bias["channels"]
     w("  misfit " + ", ".join(f"{c} {m:+.3g}" for c, m in zip(chans, bias["misfit_mean"],
                                                          strict=True)) + "\n")
-    for j, name in enumerate(WIND_NAMES):
-        shares = bias["by_channel"][name]
-        order = sorted(range(len(chans)), key=lambda k: -abs(shares[k]))[:top]
-        parts = ", ".join(f"{chans[k]} {shares[k]:+.2f}" for k in order)
-        w(f"  {name:<14}{bias['error_mean'][j]:+7.2f}  (steady misfit: "
-          f"{bias['explained'][j]:+.2f}; {parts})\n")
+    for name, error, explained, top_shares in largest_shares(bias, top):
+        parts = ", ".join(f"{c} {s:+.2f}" for c, s in top_shares)
+        w(f"  {name:<14}{error:+7.2f}  (steady misfit: {explained:+.2f}; {parts})\n")
 
 
 def calibration_table(result, flight, start) -> dict:

@@ -104,12 +104,13 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     `flight_name`: the flight as the report names it."""
     from airwake.calibrate import CalibrationError, model_error
     from airwake.calibrate.commands import add_still_air_wind_error
+    from airwake.estimate.wind import STILL_AIR_BIAS_KEY
     from airwake.heli import spec_calibration
 
     table = dict(spec_calibration(start_spec) or {})
     table["added_effects"] = [*table.get("added_effects", []), effect]
     # which channel made the old model's still-air wind error says nothing of the new one's
-    table.pop("still_air_wind_bias", None)
+    table.pop(STILL_AIR_BIAS_KEY, None)
     if wind is None and not isinstance(flight, np.ndarray):
         try:
             rms, offset = model_error(new_model, flight)

@@ -317,6 +317,18 @@ def _still_air_runs(model, flight, calibration):
     return plain, anchored
 
 
+def largest_shares(bias: dict, top: int = 2) -> list[tuple[str, float, float, list]]:
+    """Per component of a `wind_bias_by_channel` table: (component, steady error, the
+    shares' sum, [(channel, share)] for the `top` largest shares by magnitude)."""
+    chans = bias["channels"]
+    out = []
+    for j, (name, shares) in enumerate(bias["by_channel"].items()):
+        order = sorted(range(len(chans)), key=lambda k: -abs(shares[k]))[:top]
+        out.append((name, bias["error_mean"][j], bias["explained"][j],
+                    [(chans[k], shares[k]) for k in order]))
+    return out
+
+
 def wind_bias_by_channel(est, wind=None, burn_in_s: float | None = None) -> dict:
     """Where a smoother estimate's steady error comes from, channel by channel, on a
     flight whose wind is known: zero (still air, `wind` None) or `wind` (n, 6) at the
