@@ -56,12 +56,11 @@ import sys
 import time
 from pathlib import Path
 
+from airwake.discrepancy.step import REFINE, candidates_text, discrepancy_step
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
 CALIBRATION_START = "table52"
 CALIBRATION_WINDOWS = "24"
-# candidates the diagnosis refines (its default): refining fewer can leave a candidate
-# whose nonlinear fit explains nothing ranked above an unrefined one that explains 20 %
-DIAGNOSE_REFINE = "4"
 # the wind explains the residual when, given as the model's input, it leaves every channel
 # within this many times its noise floor (the calibration's own floor is ~5x on pdot)
 AIRWAKE_EXPLAINS = 8.0
@@ -200,7 +199,9 @@ def _demo(argv: list[str] | None) -> int:
     calib = _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
                      "--max-windows", CALIBRATION_WINDOWS, "--json", "--progress", capture=True)
     net_job = still_air_net_train(out, still, net_job)
-    step = discrepancy_step(still, base, out / "model.toml")
+    # calibrate -> diagnose -> add, each step the command a user types (shown as it runs)
+    step = discrepancy_step(still, base, out / "model.toml",
+                            run=lambda *a: _airwake(*a, capture=True))
     model = step["model"]
     if args.warm and (out / "model.toml").is_file():
         # the model with the effect the diagnosis named, kept or not: the models the demo's
@@ -213,7 +214,7 @@ def _demo(argv: list[str] | None) -> int:
     _airwake("sim", "truth", str(rec), "--flight", str(flight), "--out", str(scored))
     # the still-air diagnosis of the ship flight needs no wind: it runs beside the wind steps
     diag_job = _start("model", "diagnose", str(scored), "--model", str(model), "--no-sindy",
-                      "--refine", DIAGNOSE_REFINE, "--json", log=out / "diagnose.log",
+                      "--refine", str(REFINE), "--json", log=out / "diagnose.log",
                       stdout=out / "diagnose_still_air.json")
     est = _airwake("wind", "estimate", str(scored), "--model", str(model), "--score", "--json",
                    "--progress", "--out", str(wind), capture=True)
@@ -291,38 +292,6 @@ def truth_arguments(truth: str) -> list[str]:
     return ["--truth", truth] + (["--pilot", pilot] if pilot else [])
 
 
-def discrepancy_step(still: Path, base: Path, out: Path, run=None) -> dict:
-    """calibrate -> diagnose -> add, as docs/calibration.md has a user do it: diagnose the
-    calibrated model on its still-air flight and add the effect its verdict names (none
-    when the verdict is "calibrate", "wind" or "none"), keeping the calibrated model when
-    the fitted effect makes a channel worse. Returns {"model": the spec to use,
-    "diagnosis": the verdict's text, "ranked": the first candidates, "added": the effect or
-    None, "why": one line, "before"/"after": per-channel RMS of the fit when added}.
-    `run(*args)`: runs one `airwake` command with --json and returns its JSON (default: as
-    the demo shows it, `_airwake`)."""
-    if run is None:
-        def run(*args):
-            return _airwake(*args, capture=True)
-    diag = run("model", "diagnose", str(still), "--model", str(base), "--no-sindy",
-               "--refine", DIAGNOSE_REFINE, "--json")
-    step = {"model": base, "diagnosis": diag["verdict"]["text"], "ranked": _candidates(diag),
-            "added": None}
-    effect = diag["verdict"]["effect"] if diag["verdict"]["kind"] == "effect" else None
-    if effect is None:
-        step["why"] = ("the diagnosis names no effect to add "
-                       f"({diag['verdict']['kind']}): the calibrated model is used")
-        return step
-    add = run("model", "add", effect, "--data", str(still), "--model", str(base),
-              "--out", str(out), "--json")
-    if add["worse_channels"]:
-        step["why"] = (f"{effect} as fitted made {', '.join(add['worse_channels'])} "
-                       "worse: the calibrated model is kept")
-        return step
-    step.update(model=out, added=effect, before=add["before"], after=add["after"],
-                why=f"{effect} added (the diagnosis's verdict)")
-    return step
-
-
 # the wind components as the report writes them
 COMPONENT_SHORT = {"wind_vx_m_s": "v_x", "wind_vy_m_s": "v_y", "wind_vz_m_s": "v_z",
                    "wind_wx_rad_s": "ω_x", "wind_wy_rad_s": "ω_y", "wind_wz_rad_s": "ω_z"}
@@ -374,12 +343,6 @@ def bound_verdict(comp: dict, gap: float = BOUND_GAP) -> str:
 def _rows(cells) -> str:
     return "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in row) + "</tr>"
                    for row in cells)
-
-
-def _candidates(diag: dict, k: int = 3) -> str:
-    tested = [c for c in diag["candidates"] if c.get("testable")][:k]
-    return ", ".join(f"{c['effect']} {100 * c['explained']:.0f} %"
-                     + (" (significant)" if c["significant"] else "") for c in tested)
 
 
 def net_rows(net_est: dict, est: dict) -> list:
@@ -438,7 +401,7 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
                     "something on this flight beyond the airwake (docs/model-discrepancy.md).")
     diagnosis = (f"<p><b>airwake model diagnose</b> (still air assumed): "
                  f"{html.escape(diag['verdict']['text'])} (ranked: "
-                 f"{html.escape(_candidates(diag))}).</p>")
+                 f"{html.escape(candidates_text(diag))}).</p>")
     honesty = estimate_verdict(comp)
     added = ""
     if step.get("added"):

@@ -1,0 +1,86 @@
+"""calibrate -> diagnose -> add: from a calibrated model to the model used for wind, as
+docs/calibration.md has a user do it by hand (`airwake model diagnose`, then `airwake
+model add` of the effect the verdict names) and as `make demo`, the wind bench and
+`airwake campaign` do it.
+
+    step = discrepancy_step("calibration.parquet", "baseline.toml", "model.toml")
+    step["model"]      # the spec to estimate the wind with: out, or base when nothing added
+
+Why it matters for the wind, measured on the blade-element truth (the bench's still-air
+calibration flight, the model smoother anchored on the still-air net's mean flow, ship
+flights b0 seed 41 and b15 seed 48): the calibrated model alone reads the rotation about
+the horizontal axes 1.0-1.5 1/s off (w_x -1.23 / -1.53, w_y +1.05 / +1.00, its 90 %
+intervals holding the truth 2-25 % of the time); with the effect the diagnosis names on
+that flight (advance_cyclic: the rotor's blow-back and inflow roll per advance ratio)
++0.07 / +0.16 and -0.40 / -0.33.
+"""
+
+from __future__ import annotations
+
+# candidates refined by the nonlinear fit after the linear screen (`model diagnose
+# --refine`, its default): refining fewer can leave a candidate whose nonlinear fit
+# explains nothing ranked above an unrefined one that explains 20 %
+REFINE = 4
+
+
+def _diagnose_here(still, base) -> dict:
+    """`airwake model diagnose STILL --model BASE --no-sindy --refine 4 --json`, in-process."""
+    from airwake.discrepancy.diagnose import diagnose, summary
+    from airwake.discrepancy.settings import AnalysisSettings
+    from airwake.discrepancy.wind import on_flight
+    from airwake.heli import load_model, spec_calibration
+
+    st = AnalysisSettings()
+    flight, wind = on_flight(None, str(still), st)
+    d = diagnose(load_model(str(base)), flight, st, refine_top=REFINE, sindy=False,
+                 wind=wind, model_calibrated=spec_calibration(str(base)) is not None)
+    return summary(d)
+
+
+def _add_here(effect: str, still, base, out) -> dict:
+    """`airwake model add EFFECT --data STILL --model BASE --out OUT --json`, in-process."""
+    from airwake.discrepancy.add import add_effect
+
+    return add_effect(str(base), effect, str(still), out=str(out)).to_json()
+
+
+def candidates_text(diag: dict, k: int = 3) -> str:
+    """The first `k` testable candidates of a diagnosis, with how much each explains."""
+    tested = [c for c in diag["candidates"] if c.get("testable")][:k]
+    return ", ".join(f"{c['effect']} {100 * c['explained']:.0f} %"
+                     + (" (significant)" if c["significant"] else "") for c in tested)
+
+
+def discrepancy_step(still, base, out, run=None) -> dict:
+    """Diagnose the calibrated model `base` on its still-air flight `still` and add the
+    effect its verdict names (none when the verdict is "calibrate", "wind" or "none"),
+    keeping `base` when the fitted effect makes a channel worse. Returns {"model": the spec
+    to use, "diagnosis": the verdict's text, "ranked": the first candidates, "added": the
+    effect or None, "why": one line, "before"/"after": per-channel RMS of the fit when
+    added}. `run(*args)`: runs one `airwake` command with --json and returns its JSON (the
+    demo shows the commands as a user types them); default: the same calls in-process."""
+    if run is None:
+        diag = _diagnose_here(still, base)
+    else:
+        diag = run("model", "diagnose", str(still), "--model", str(base), "--no-sindy",
+                   "--refine", str(REFINE), "--json")
+    step = {"model": base, "diagnosis": diag["verdict"]["text"],
+            "ranked": candidates_text(diag), "added": None}
+    effect = diag["verdict"]["effect"] if diag["verdict"]["kind"] == "effect" else None
+    if effect is None:
+        step["why"] = ("the diagnosis names no effect to add "
+                       f"({diag['verdict']['kind']}): the calibrated model is used")
+        return step
+    if run is None:
+        add = _add_here(effect, still, base, out)
+    else:
+        add = run("model", "add", effect, "--data", str(still), "--model", str(base),
+                  "--out", str(out), "--json")
+    if add["worse_channels"]:
+        step["why"] = (f"{effect} as fitted made {', '.join(add['worse_channels'])} "
+                       "worse: the calibrated model is kept")
+        return step
+    step.update(model=out, added=effect,
+                before=add["before"], after=add["after"],
+                why=f"{effect} added (the diagnosis's verdict)")
+    return step
