@@ -33,6 +33,7 @@ no steady offset. Weights: `PilotGains`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -51,6 +52,7 @@ from hil_sim.sensors.config import (
 
 CHANNELS = ("col", "lat", "lon", "ped")  # order of the model's inputs
 SEGMENT_TYPES = ("hover", "goto", "path", "sweep", "chirp", "burst")
+POINTS = ("cg", "hub")
 Vec3 = tuple[float, float, float]
 # Command limits (rad): the RC set-up's end points (docs/sensors.md): col -3..+12 deg,
 # cyclic +-8 deg, tail +-20 deg.
@@ -168,12 +170,16 @@ class PilotConfig:
     frame: str = "ned"
     start_m: Vec3 = (0.0, 0.0, -2.5)
     yaw_deg: float | None = None  # None: 0 in "ned", the ship's heading in "ship"
+    # the point the script's positions are for: the CG, or the rotor hub (what a wind map
+    # bins: a plan for a layer above the deck flies the hub through it)
+    point: str = "cg"
     gains: PilotGains = field(default_factory=PilotGains)
     crossover: CrossoverConfig = field(default_factory=CrossoverConfig)
     segments: tuple[Segment, ...] = (Segment("hover", duration_s=1.0),)
 
     def __post_init__(self) -> None:
         check_choice("frame", self.frame, ("ned", "ship"))
+        check_choice("point", self.point, POINTS)
         check_finite("start_m", self.start_m)
         if self.yaw_deg is not None:
             check_finite("yaw_deg", self.yaw_deg)
@@ -205,7 +211,28 @@ def pilot_from_dict(table: Mapping[str, Any] | None, where: str = "pilot") -> Pi
                              f"{', '.join(SEGMENT_TYPES)}")
         out.append(config_from_dict(Segment, s, here))
     return PilotConfig(frame=cfg.frame, start_m=cfg.start_m, yaw_deg=cfg.yaw_deg,
-                       gains=cfg.gains, crossover=cfg.crossover, segments=tuple(out))
+                       point=cfg.point, gains=cfg.gains, crossover=cfg.crossover,
+                       segments=tuple(out))
+
+
+def cg_script(cfg: PilotConfig, hub_offset_body_m) -> PilotConfig:
+    """The script for the CG, which the pilot flies: a script for the hub (`point =
+    "hub"`) moved down by the hub's height above the CG at level attitude (`hub_offset_body_m`
+    in body axes, z down). Only the vertical part: a layer above the deck is about height,
+    and the hub's few centimetres ahead of or beside the CG turn with the heading. A CG
+    script is returned as it is."""
+    if cfg.point == "cg":
+        return cfg
+    off = np.asarray(hub_offset_body_m, dtype=float)
+    dz = -float(off[2])  # the hub is -off_z above the CG: the CG flies that much lower (+z)
+
+    def lower(v):
+        return None if v is None else (v[0], v[1], v[2] + dz)
+
+    segs = tuple(dataclasses.replace(
+        s, position_m=lower(s.position_m), a_m=lower(s.a_m), b_m=lower(s.b_m),
+        waypoints_m=tuple(lower(w) for w in s.waypoints_m)) for s in cfg.segments)
+    return dataclasses.replace(cfg, point="cg", start_m=lower(cfg.start_m), segments=segs)
 
 
 # ---------------------------------------------------------------------------

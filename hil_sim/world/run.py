@@ -50,7 +50,7 @@ from hil_sim.world.kinematics import (
     euler_to_dcm,
     euler_to_quat,
 )
-from hil_sim.world.pilot import Pilot, build_reference
+from hil_sim.world.pilot import Pilot, build_reference, cg_script
 from hil_sim.world.scenario import Scenario, vibration_for
 from hil_sim.world.ship import Ship
 from hil_sim.world.truth import BODY, TruthModel, build_truth_model
@@ -336,7 +336,7 @@ def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float 
     b = body.start
 
     # -- initial trim at the start point ----------------------------------------------
-    pc = scenario.pilot
+    pc = cg_script(scenario.pilot, hub_off)
     yaw0_frame = math.radians(pc.yaw_deg) if pc.yaw_deg is not None else 0.0
     yaw0 = frame.heading_rad + yaw0_frame
     p0_ned, v0_ned = frame.to_ned(0.0, np.asarray(pc.start_m, float)[None], np.zeros((1, 3)))
@@ -505,7 +505,7 @@ def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dic
     from types import SimpleNamespace
 
     from hil_sim.sensors.isolator import IsolatorConfig, isolate
-    from hil_sim.world.rotorcraft.flight import fly, measurement_at_cg
+    from hil_sim.world.rotorcraft.flight import build_truth, fly, measurement_at_cg
     from hil_sim.world.wind import build_wind_field
 
     unsupported = [k for k in scenario.hidden.enabled() if k not in BLADE_ELEMENT_HIDDEN]
@@ -518,7 +518,12 @@ def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dic
     ship = Ship(scenario.ship) if scenario.ship is not None else None
     field_ = build_wind_field(scenario.wind, rng=rngs["wind"], ship=ship)
     frame = PlanFrame(scenario.pilot.frame, ship)
-    pc = scenario.pilot
+    # the pilot flies the CG: a script for the hub is moved by the airframe's hub offset
+    flown_scenario = scenario
+    if scenario.pilot.point != "cg":
+        flown_scenario = dataclasses.replace(scenario, pilot=cg_script(
+            scenario.pilot, build_truth(scenario).heli.hub_offset_body_m))
+    pc = flown_scenario.pilot
     rc_timing = scenario.sensors.rc.timing
     knots = sample_times(0.0, duration + 1.0 / rc_timing.frame_rate_hz,
                          rc_timing.frame_rate_hz, rc_timing.phase_s)
@@ -536,7 +541,7 @@ def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dic
         pilot.trim = SimpleNamespace(x=trim12.copy(), u=trim.delta.copy())
         return pilot
 
-    flown = fly(scenario, duration, rngs, field_, ship, frame, knots, ref, ref_vel_ned,
+    flown = fly(flown_scenario, duration, rngs, field_, ship, frame, knots, ref, ref_vel_ned,
                 progress=progress, make_pilot=pilot_factory)
     t_integrated = time.perf_counter()
     truth = flown.truth
