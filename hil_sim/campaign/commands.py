@@ -20,29 +20,32 @@ def _handle(args: argparse.Namespace) -> int:
 
     s = generate(args.out, args.flights, args.betas, args.seed, truth=args.truth,
                  helicopters=args.helicopters, duration_s=args.duration,
-                 calibration_s=args.calibration_s, speed_m_s=args.speed,
+                 calibration_s=args.calibration_s, still_air_s=args.still_air_s,
+                 speed_m_s=args.speed,
                  workers=args.workers, progress=not args.json)
     if args.json:
         print(json.dumps(s, indent=2))
     else:
-        print(f"{s['campaign']}: {len(s['flights'])} flights and {len(s['calibrations'])} "
-              f"calibration flight(s), {sum(f['duration_s'] for f in s['flights']):.0f} s "
-              f"flown ({s['sim_seconds']:.0f} s of computing); run it with "
+        flown = sum(f["duration_s"] for f in s["flights"])
+        print(f"{s['campaign']}: {len(s['flights'])} flights, {len(s['calibrations'])} "
+              f"calibration and {len(s['still_air'])} still-air cruise flight(s), "
+              f"{flown:.0f} s flown ({s['sim_seconds']:.0f} s of computing); run it with "
               f"`airwake campaign {s['campaign']}`")
     return 0
 
 
 def register_campaign(sub) -> None:
     """`sim campaign` under the `sim` group."""
-    from hil_sim.campaign.plan import TRUTH_MODELS
+    from hil_sim.campaign.plan import STILL_AIR_S, TRUTH_MODELS
 
     p = sub.add_parser(
         "campaign", help="fly a simulated campaign and write DIR/campaign.toml",
         description="Fly N ship-airwake flights spread over the relative wind headings "
         "(lateral sweeps at different stations and heights so the merged maps cover the "
-        "deck area) and one still-air calibration flight per helicopter in the truth "
-        "world, and write their flight tables (truth columns included) and "
-        "DIR/campaign.toml for `airwake campaign` (docs/campaigns.md).")
+        "deck area), one still-air calibration flight and one still-air cruise flight (for "
+        "its still-air wind net) per helicopter in the truth world, and write their flight "
+        "tables (truth columns included) and DIR/campaign.toml for `airwake campaign` "
+        "(docs/campaigns.md).")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     p.add_argument("--flights", type=int, required=True, metavar="N", help="ship flights")
     p.add_argument("--betas", type=_betas, default=(0.0,), metavar="B1,B2,...",
@@ -59,6 +62,11 @@ def register_campaign(sub) -> None:
                    "station)")
     p.add_argument("--calibration-s", type=float, default=None, metavar="S",
                    help="length of the calibration flights (default: the whole scenario)")
+    p.add_argument("--still-air-s", type=float, default=STILL_AIR_S, metavar="S",
+                   help="length of each helicopter's still-air cruise flight, which its "
+                   "still-air wind net learns from beside the calibration flight (default "
+                   f"{STILL_AIR_S:g}; 0 = none: the campaign estimates with the model's "
+                   "smoother alone)")
     p.add_argument("--speed", type=float, default=0.6, metavar="M_S",
                    help="sweep speed (peak of each leg, 0.6 m/s)")
     p.add_argument("--workers", type=int, default=None, metavar="N",

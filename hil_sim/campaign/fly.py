@@ -2,11 +2,15 @@
 
     summary = generate("DIR", flights=12, betas=(0, 15, 30), seed=7)
 
-DIR/scenarios/<flight>.toml (each flight's scenario, `plan`), DIR/flights/<flight>.parquet
-and DIR/calibration/calibration_<heli>.parquet (the truth world's flight tables, truth
-columns included, with a `campaign` metadata table: beta_deg, helicopter, day, role),
-and DIR/campaign.toml. Every scenario is loaded (validated) before the first flight
-flies; the flights fly on a Dask LocalCluster (`workers`; 0 = one after another here).
+DIR/scenarios/<flight>.toml (each flight's scenario, `plan`), DIR/flights/<flight>.parquet,
+DIR/calibration/calibration_<heli>.parquet and DIR/calibration/still_air_<heli>.parquet
+(the still-air cruise legs its still-air wind net also learns from; none with
+`still_air_s` = 0) (the truth world's flight tables, truth columns included, with a
+`campaign` metadata table: beta_deg, helicopter, day, role), and DIR/campaign.toml: its
+estimate is the still-air net's mean flow anchoring the calibrated model's smoother
+(`airwake.campaign.spec`), the plain smoother without still-air cruise flights. Every
+scenario is loaded (validated) before the first flight flies; the flights fly on a Dask
+LocalCluster (`workers`; 0 = one after another here).
 """
 
 from __future__ import annotations
@@ -15,10 +19,12 @@ import os
 from pathlib import Path
 
 from hil_sim.campaign.plan import (
+    STILL_AIR_S,
     calibration_scenario,
     flight_scenario,
     helicopter_names,
     plan_flights,
+    still_air_scenario,
 )
 
 DAY = "sim"
@@ -55,11 +61,16 @@ def _write_toml(table: dict, path: Path) -> None:
     path.write_text(tomli_w.dumps(table))
 
 
-def campaign_file(name: str, description: str, helicopters: list[str]) -> dict:
+def campaign_file(name: str, description: str, helicopters: list[str],
+                  still_air: bool = True) -> dict:
+    run = ["calibrate", *(["still_air_net"] if still_air else []), "estimate", "map",
+           "report"]
     return {"name": name, "description": description,
-            "steps": {"run": ["calibrate", "estimate", "map", "report"], **STEP_OPTIONS},
+            "steps": {"run": run, **STEP_OPTIONS},
             "helicopters": {h: {"model": "table52",
-                                "calibration": f"calibration/calibration_{h}.parquet"}
+                                "calibration": f"calibration/calibration_{h}.parquet",
+                                **({"still_air": [f"calibration/still_air_{h}.parquet"]}
+                                   if still_air else {})}
                             for h in helicopters},
             "flights": [{"path": "flights/*.parquet"}]}
 
@@ -75,8 +86,9 @@ def check_out_dir(out: Path) -> None:
 
 def generate(out, flights: int, betas, seed: int, *, truth: str | None = None,
              helicopters: int = 1, duration_s: float | None = None,
-             calibration_s: float | None = None, speed_m_s: float = 0.6,
-             workers: int | None = None, progress: bool = True) -> dict:
+             calibration_s: float | None = None, still_air_s: float = STILL_AIR_S,
+             speed_m_s: float = 0.6, workers: int | None = None,
+             progress: bool = True) -> dict:
     """Plan, validate, fly and write the campaign (module docstring); its summary."""
     from airwake.progress import Progress
 
@@ -84,6 +96,8 @@ def generate(out, flights: int, betas, seed: int, *, truth: str | None = None,
 
     out = Path(out)
     check_out_dir(out)
+    if not (still_air_s >= 0):
+        raise ScenarioError(f"--still-air-s {still_air_s}: must be >= 0 (0: none)")
     try:
         planned = plan_flights(flights, betas, seed, helicopters, speed_m_s)
         jobs = []
@@ -93,6 +107,10 @@ def generate(out, flights: int, betas, seed: int, *, truth: str | None = None,
             table = calibration_scenario(h, seed * 1000 + 900 + h_i, truth, calibration_s)
             jobs.append((f"calibration_{h}", table, out / "calibration",
                          {"role": "calibration", "helicopter": h, "day": DAY}))
+            if still_air_s > 0:
+                table = still_air_scenario(h, seed * 1000 + 950 + h_i, truth, still_air_s)
+                jobs.append((f"still_air_{h}", table, out / "calibration",
+                             {"role": "still_air", "helicopter": h, "day": DAY}))
         for f in planned:
             jobs.append((f.name, flight_scenario(f, truth, duration_s), out / "flights",
                          {"role": "flight", "beta_deg": f.beta_deg, "helicopter": f.helicopter,
@@ -130,8 +148,10 @@ def generate(out, flights: int, betas, seed: int, *, truth: str | None = None,
         f"{flights} simulated flights at beta {betas_text} deg, lateral sweeps over the deck "
         f"area (airwake sim campaign --flights {flights} --seed {seed})"
         + (f", truth helicopter {truth}" if truth else ""),
-        helicopter_names(helicopters)), out / "campaign.toml")
+        helicopter_names(helicopters), still_air=still_air_s > 0), out / "campaign.toml")
+    own = ("calibration_", "still_air_")
     return {"out": str(out), "campaign": str(out / "campaign.toml"),
-            "flights": [d for d in done if not d["flight"].startswith("calibration_")],
+            "flights": [d for d in done if not d["flight"].startswith(own)],
             "calibrations": [d for d in done if d["flight"].startswith("calibration_")],
+            "still_air": [d for d in done if d["flight"].startswith("still_air_")],
             "sim_seconds": sum(d["seconds"] for d in done)}

@@ -3,16 +3,19 @@
     flights = plan_flights(12, betas=(0, 15), seed=7)
     table = flight_scenario(flights[0])             # a scenario extending ship_airwake_b0
     table = calibration_scenario("heli1", seed=7)   # still_air_calibration, its own seed
+    table = still_air_scenario("heli1", seed=7, duration_s=100)  # still_air_cruise legs
 
 The deck area a campaign maps (`airwake.campaign.spec.Grid`: the flight deck and 6 m aft
 of it, 2-3 m above the deck, 1 m cells) is cut into stations: one lateral line per row
 of cells, at the row's centre. The flights at one heading share the stations out
 round-robin (flight k of n flies rows k, k + n, ...: with as many flights as rows each
 flies one; with fewer, each flies several, aft to fore), each at its own height in the
-layer (2.25, 2.5 or 2.75 m above the deck), sweeping across the beam and back
-(`passes` = 2) at `speed_m_s` (the minimum-jerk leg's peak speed: ~1.7 s per 1 m cell per
-pass at 0.6 m/s). Flights go to the headings in turn (flight i at betas[i % len]) and to
-the helicopters in turn; each flight has its own seed (its own turbulence).
+layer (2.25, 2.5 or 2.75 m above the deck: the rotor hub's, which the map bins; the
+script says `point = "hub"` and the pilot flies the CG that much lower), sweeping
+across the beam and back (`passes` = 2) at `speed_m_s` (the minimum-jerk leg's peak
+speed: ~1.7 s per 1 m cell per pass at 0.6 m/s). Flights go to the headings in turn
+(flight i at betas[i % len]) and to the helicopters in turn; each flight has its own seed
+(its own turbulence).
 """
 
 from __future__ import annotations
@@ -21,6 +24,11 @@ from dataclasses import dataclass
 
 BASE_SCENARIO = "ship_airwake_b0"
 CALIBRATION_SCENARIO = "still_air_calibration"
+# what each helicopter's still-air wind net learns from beside its calibration flight: the
+# cruise legs (the calibration flight's legs are short; the net must have flown the air
+# speeds it will read: docs/networks.md); the first 100 s as `make demo` flies them
+STILL_AIR_SCENARIO = "still_air_cruise"
+STILL_AIR_S = 100.0
 TRUTH_MODELS = ("blade_element", "effects")
 HEIGHT_OFFSETS_M = (0.0, -0.25, 0.25)
 HOVER_S = 3.0
@@ -106,7 +114,9 @@ def flight_scenario(f: PlannedFlight, truth: str | None = None,
         segments.append({"type": "sweep", "a_m": [x, -y, z], "b_m": [x, y, z],
                          "passes": f.passes, "speed_m_s": f.speed_m_s})
     segments.append({"type": "hover", "duration_s": 2.0})
-    pilot = {"frame": "ship", "start_m": [f.stations_x_m[0], -y, z], "segments": segments}
+    # the heights are the rotor hub's (what the map bins): the pilot flies its CG lower
+    pilot = {"frame": "ship", "point": "hub", "start_m": [f.stations_x_m[0], -y, z],
+             "segments": segments}
     planned = script_duration(pilot_from_dict(pilot)) + 1.0
     xs = ", ".join(f"{x:g}" for x in f.stations_x_m)
     return {"extends": BASE_SCENARIO,
@@ -126,3 +136,11 @@ def calibration_scenario(helicopter: str, seed: int, truth: str | None = None,
     if duration_s:
         table["duration_s"] = float(duration_s)
     return table
+
+
+def still_air_scenario(helicopter: str, seed: int, truth: str | None = None,
+                       duration_s: float = STILL_AIR_S) -> dict:
+    """The still-air cruise flight of one helicopter, for its still-air wind net."""
+    return {"extends": STILL_AIR_SCENARIO,
+            "description": f"still-air cruise legs of {helicopter} (its still-air wind net)",
+            "seed": seed, "duration_s": float(duration_s), **_helicopter_table(truth)}

@@ -6,20 +6,28 @@ import numpy as np
 import pandas as pd
 import tomli_w
 
-# cheap steps: a short calibration (4 windows, 8 evaluations); the model report without
-# its open-loop windows and sparse regression
-FAST = {"calibrate": {"max_windows": 4, "max_nfev": 8},
+# cheap steps: a short calibration (4 windows, 8 evaluations) without the discrepancy step
+# (diagnose + add: tests/campaign/test_campaign_anchored.py runs it); the model report
+# without its open-loop windows and sparse regression
+FAST = {"calibrate": {"max_windows": 4, "max_nfev": 8, "discrepancy": False},
         "report": {"windows": 0, "sindy": False}}
 
 
 def write_campaign(path: Path, sim: Path, flights=("flights/*.parquet",),
-                   steps=("calibrate", "estimate", "map"), extra: list | None = None) -> Path:
+                   steps=("calibrate", "estimate", "map"), extra: list | None = None,
+                   still_air: bool = False, calibrate: dict | None = None) -> Path:
     """A campaign file at `path` over the simulated campaign `sim`'s flights (globs relative
-    to `sim`), the fast step options, plus `extra` [[flights]] entries."""
+    to `sim`), the fast step options, plus `extra` [[flights]] entries; `still_air`: the
+    helicopter's still-air cruise flight listed for its still-air net; `calibrate`:
+    options that replace the fast calibration's."""
+    heli = {"model": "table52",
+            "calibration": str(sim / "calibration" / "calibration_heli1.parquet")}
+    if still_air:
+        heli["still_air"] = [str(sim / "calibration" / "still_air_heli1.parquet")]
     table = {"name": "test campaign",
-             "steps": {"run": list(steps), **FAST},
-             "helicopters": {"heli1": {"model": "table52", "calibration": str(
-                 sim / "calibration" / "calibration_heli1.parquet")}},
+             "steps": {"run": list(steps), **FAST,
+                       "calibrate": {**FAST["calibrate"], **(calibrate or {})}},
+             "helicopters": {"heli1": heli},
              "flights": [{"path": str(sim / f)} for f in flights] + list(extra or [])}
     path.write_text(tomli_w.dumps(table))
     return path

@@ -44,8 +44,11 @@ def test_good_file_reads_beta_helicopter_and_day_from_metadata(tree):
     assert sorted(by) == ["a", "b"]
     assert (by["a"].beta_deg, by["a"].helicopter, by["a"].day) == (15.0, "h1", "d2")
     assert by["b"].beta_deg == 30.0  # a simulated ship flight's relative wind
-    assert camp.steps == ("export", "calibrate", "estimate", "map", "report")
+    assert camp.steps == ("export", "calibrate", "still_air_net", "estimate", "map", "report")
     assert camp.helicopters["h1"].calibration.path == (tree / "cal" / "still.parquet")
+    # its still-air net learns from the calibration flight (no other still-air flight here)
+    assert [s.path for s in camp.helicopters["h1"].still_air_flights] == [
+        tree / "cal" / "still.parquet"]
 
 
 def test_calibration_flights_are_not_also_flights(tree):
@@ -69,6 +72,13 @@ def test_calibration_flights_are_not_also_flights(tree):
     ({"helicopters": {"h1": {"model": "table99"}}}, "helicopters.h1.model", "'table99'"),
     ({"helicopters": {"h1": {"calibration": "cal/none.parquet"}}},
      "helicopters.h1.calibration", "'cal/none.parquet'"),
+    ({"helicopters": {"h1": {"still_air": "cal/still.parquet"}}},
+     "helicopters.h1.still_air", "'cal/still.parquet'"),
+    ({"helicopters": {"h1": {"still_air": ["cal/none.parquet"]}}},
+     "helicopters.h1.still_air", "'cal/none.parquet'"),
+    ({"steps": {"run": ["calibrate", "estimate"], "estimate": {"method": "anchored"}}},
+     "steps.estimate.method", "'anchored'"),
+    ({"steps": {"still_air_net": {"max_rows": 10}}}, "steps.still_air_net.max_rows", "10"),
     ({"flights": [{"path": "nothing/*.parquet"}]}, "flights[0].path", "'nothing/*.parquet'"),
     ({"flights": [{"path": "plain/*"}]}, "flights[0].beta_deg", "None"),
     ({"flights": [{"path": "f/a.parquet", "helicopter": "h9"}]}, "flights[0].helicopter",
@@ -88,6 +98,45 @@ def test_bad_entry_is_refused_naming_file_key_and_value(tree, change, key, value
         load_campaign(path)
     msg = str(err.value)
     assert msg.startswith(f"{path}: {key} = {value}: "), msg
+
+
+def test_still_air_flights_feed_the_net_and_set_the_estimate_anchored(tree):
+    from airwake.campaign.plan import build_plan
+    from airwake.campaign.store import DigestCache
+
+    _flight(tree / "cal" / "cruise.parquet", {})
+    table = {"helicopters": {"h1": {"model": "table52", "calibration": "cal/still.parquet",
+                                    "still_air": ["cal/cruise.parquet"]}},
+             "flights": [{"path": "*/*.parquet", "beta_deg": 0}]}
+    camp = load_campaign(_write(tree, table))
+    h = camp.helicopters["h1"]
+    assert [s.path.name for s in h.still_air_flights] == ["still.parquet", "cruise.parquet"]
+    # neither still-air flight is a ship flight
+    assert sorted(f.name for f in camp.flights) == ["a", "c"]
+    plan = build_plan(camp, DigestCache(tree / "digests"))
+    net = plan.by_subject["h1"]["still_air_net"]
+    assert plan.task(net).args["flights"] == {
+        "flight 0": str(tree / "cal" / "still.parquet"),
+        "flight 1": str(tree / "cal" / "cruise.parquet")}
+    for f in ("a", "c"):
+        est = plan.task(plan.by_subject[f]["estimate"])
+        assert est.args["options"]["method"] == "anchored" and est.deps["net"] == net
+    # without the step the estimate is the model's smoother, and a named "anchored" is
+    # refused for a helicopter that has no still-air flight
+    table["steps"] = {"run": ["calibrate", "estimate", "map"]}
+    plan = build_plan(load_campaign(_write(tree, table)), DigestCache(tree / "digests"))
+    est = plan.task(plan.by_subject["a"]["estimate"])
+    assert est.args["options"]["method"] == "smoother" and "net" not in est.deps
+    bare = {"helicopters": {"h1": {"model": "table52"}},
+            "steps": {"estimate": {"method": "anchored"}},
+            "flights": [{"path": "f/*"}]}
+    with pytest.raises(CampaignError, match="helicopters.h1 = None: .*still-air flights"):
+        load_campaign(_write(tree, bare))
+    # with the default method such a helicopter keeps the smoother
+    del bare["steps"]
+    plan = build_plan(load_campaign(_write(tree, bare)), DigestCache(tree / "digests"))
+    assert "still_air_net" not in plan.by_subject.get("h1", {})
+    assert plan.task(plan.by_subject["a"]["estimate"]).args["options"]["method"] == "smoother"
 
 
 def test_recordings_need_the_export_step(tree):

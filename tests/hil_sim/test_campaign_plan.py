@@ -11,6 +11,7 @@ from hil_sim.campaign.plan import (
     flight_scenario,
     plan_flights,
     stations,
+    still_air_scenario,
 )
 from hil_sim.world.pilot import build_reference, pilot_from_dict
 from hil_sim.world.scenario import load_scenario
@@ -60,6 +61,26 @@ def test_scenarios_load_and_say_what_they_fly(tmp_path):
     cal.write_text(tomli_w.dumps(calibration_scenario("heli1", 9, duration_s=30.0)))
     sc = load_scenario(cal)
     assert sc.wind["type"] == "still_air" and sc.seed == 9 and sc.duration_s == 30.0
+    # the still-air cruise legs the helicopter's still-air wind net also learns from
+    cruise = tmp_path / "s.toml"
+    cruise.write_text(tomli_w.dumps(still_air_scenario("heli1", 11)))
+    sc = load_scenario(cruise)
+    assert sc.wind["type"] == "still_air" and sc.seed == 11 and sc.duration_s == 100.0
+    assert sc.helicopter.model == "blade_element"  # the shipped scenario's truth
+
+
+def test_the_campaign_file_lists_the_still_air_flights_and_anchors_the_estimate():
+    from hil_sim.campaign.fly import campaign_file
+
+    table = campaign_file("c", "d", ["heli1", "heli2"])
+    assert table["steps"]["run"] == ["calibrate", "still_air_net", "estimate", "map", "report"]
+    assert table["helicopters"]["heli2"] == {
+        "model": "table52", "calibration": "calibration/calibration_heli2.parquet",
+        "still_air": ["calibration/still_air_heli2.parquet"]}
+    # without still-air cruise flights: no net, the model's smoother (spec's default)
+    table = campaign_file("c", "d", ["heli1"], still_air=False)
+    assert "still_air_net" not in table["steps"]["run"]
+    assert "still_air" not in table["helicopters"]["heli1"]
 
 
 def test_truth_helicopter_is_written_only_when_asked():

@@ -57,8 +57,9 @@ def _handle(args: argparse.Namespace) -> int:
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campaign", help="many flights on Dask: calibrate, estimate, map, report, merge",
-        description="Run a campaign file's flights through export, calibrate, wind "
-        "estimate, wind map and model report on dask.distributed (a LocalCluster, or an "
+        description="Run a campaign file's flights through export, calibrate, the "
+        "still-air wind net, wind estimate (anchored on that net's mean flow), wind map and "
+        "model report on dask.distributed (a LocalCluster, or an "
         "existing cluster with --scheduler), merge the maps into one airwake map per "
         "relative wind heading and write DIR/summary.parquet and DIR/index.html. Results "
         "are content-addressed: a re-run skips what is done and an interrupted run resumes "

@@ -9,7 +9,7 @@ from collections import Counter
 
 from airwake.progress import Progress
 
-ORDER = ("export", "calibrate", "estimate", "map", "report", "merge")
+ORDER = ("export", "calibrate", "still_air_net", "estimate", "map", "report", "merge")
 
 
 class CampaignDisplay:

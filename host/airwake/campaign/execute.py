@@ -61,7 +61,8 @@ def _dask_failure(task, future) -> dict:
 
 # Dask runs the ready task of highest priority first: the long model reports before the
 # short maps, so the maps fill the end of the run instead of one report holding it up
-PRIORITY = {"export": 5, "calibrate": 4, "estimate": 3, "report": 2, "map": 1, "merge": 0}
+PRIORITY = {"export": 5, "calibrate": 4, "still_air_net": 4, "estimate": 3, "report": 2,
+            "map": 1, "merge": 0}
 
 
 def _run_dask(client, plan: Plan, todo: list, records: dict, store: Store,
@@ -72,8 +73,8 @@ def _run_dask(client, plan: Plan, todo: list, records: dict, store: Store,
 
     models = sorted({t.args["start"] for t in plan.tasks if t.step == "calibrate"}
                     | {t.args["model"] for t in plan.tasks if "model" in t.args})
-    nets = any(t.step == "estimate" and t.args["options"].get("method") == "net"
-               for t in plan.tasks)
+    nets = any(t.step == "still_air_net" or (t.step == "estimate" and t.args["options"].get(
+        "method") in ("net", "anchored")) for t in plan.tasks)
     client.register_plugin(WarmWorker(models or ("table52",), torch=nets))
     client.subscribe_topic(EVENT_TOPIC, lambda event: display.started(event[1]["step"]))
     futures = {}

@@ -7,7 +7,9 @@
 
     export[f]     recording -> flight table                  (recordings only)
     calibrate[h]  still-air flight of helicopter h -> model  (after its export)
-    estimate[f]   flight + h's model -> wind table           (after calibrate[h], export[f])
+    still_air_net[h]  h's still-air flights -> still-air wind net (after their exports)
+    estimate[f]   flight + h's model (+ h's net: anchored) -> wind table
+                                                  (after calibrate[h], still_air_net[h], export[f])
     map[f]        wind + flight -> the flight's map and its cells on the campaign grid
     report[f]     flight + model + wind -> model report      (after estimate[f])
     merge[beta]   every map at that beta -> the merged map
@@ -23,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from airwake.campaign.spec import Campaign
+from airwake.campaign.spec import ANCHORED, Campaign
 from airwake.campaign.store import DigestCache, code_version, task_key
 
 
@@ -99,6 +101,21 @@ def build_plan(campaign: Campaign, digests: DigestCache) -> Plan:
         else:
             models[h.name] = ({"model": start}, {}, {"model": h.model})
 
+    nets = {}  # helicopter -> the key of its still-air net
+    for h in campaign.helicopters.values():
+        if "still_air_net" not in steps or not h.still_air_flights:
+            continue
+        ident, deps, files = {}, {}, []
+        for i, source in enumerate(h.still_air_flights):
+            role = f"flight {i}"
+            f_ident, f_deps, f_args = flight_input(f"still air {h.name} {i}", source)
+            ident.update({role: f_ident["flight"]} if f_ident else {})
+            deps.update({role: f_deps["flight"]} if f_deps else {})
+            files += [(role, f_args["flight"])] if f_args else []
+        nets[h.name] = add("still_air_net", h.name, ident, deps,
+                           {"flights": dict(files), "helicopter": h.name,
+                            "options": opts["still_air_net"]})
+
     maps_by_beta: dict[float, dict] = {}
     for f in campaign.flights:
         f_ident, f_deps, f_args = flight_input(f.name, f.source)
@@ -107,8 +124,12 @@ def build_plan(campaign: Campaign, digests: DigestCache) -> Plan:
         if "estimate" in steps:
             net = ({"net": digests.digest(Path(opts["estimate"]["net"]))}
                    if "net" in opts["estimate"] else {})
-            wind = add("estimate", f.name, {**f_ident, **m_ident, **net}, {**f_deps, **m_deps},
-                       {**f_args, **m_args, "options": opts["estimate"]})
+            method = opts["estimate"].get(
+                "method", ANCHORED if f.helicopter in nets else "smoother")
+            anchor = {"net": nets[f.helicopter]} if method == ANCHORED else {}
+            wind = add("estimate", f.name, {**f_ident, **m_ident, **net, "method": method},
+                       {**f_deps, **m_deps, **anchor},
+                       {**f_args, **m_args, "options": {**opts["estimate"], "method": method}})
         if "map" in steps:
             key = add("map", f.name, {**f_ident, "grid": campaign.grid.__dict__},
                       {**f_deps, "wind": wind},

@@ -27,7 +27,7 @@ from pathlib import Path
 
 from airwake.campaign.plan import beta_subject
 
-STEP_ORDER = ("export", "calibrate", "estimate", "map", "report")
+STEP_ORDER = ("export", "calibrate", "still_air_net", "estimate", "map", "report")
 
 
 def _rel(store, rec: dict | None, out: Path, name: str = "page") -> str:

@@ -23,11 +23,14 @@ from airwake.campaign.store import Store, task_key
 
 EVENT_TOPIC = "airwake-campaign"
 # the output of an upstream task each input role reads
-ROLE_OUTPUT = {"flight": "flight", "model": "model", "wind": "wind"}
+ROLE_OUTPUT = {"flight": "flight", "model": "model", "wind": "wind", "net": "net"}
 
 
 def _output_of(role: str) -> str:
-    return "cells" if role.startswith("map ") else ROLE_OUTPUT[role]
+    if role.startswith("map "):
+        return "cells"
+    # a still-air net's flights ("flight 0", "flight 1", ...): each an export's table
+    return ROLE_OUTPUT[role.split(" ", 1)[0]]
 
 
 def _worker_name() -> str:

@@ -2,16 +2,18 @@
 
     campaign = load_campaign("campaign.toml")
     campaign.flights          # (Flight, ...) name, source, helicopter, beta_deg, day
-    campaign.helicopters      # {name: Helicopter(model, calibration)}
+    campaign.helicopters      # {name: Helicopter(model, calibration, still_air)}
     campaign.steps            # the steps that run, in order
     campaign.options["estimate"]   # keyword options of that step's API call
 
     name = "..."                         description = "..."
     [grid]           cell_m, layer_m, min_seconds, deck_length_m, beam_m, hangar_length_m,
                      hangar_width_m, aft_m, height_m = [lo, hi]
-    [steps]          run = ["export", "calibrate", "estimate", "map", "report"]
+    [steps]          run = ["export", "calibrate", "still_air_net", "estimate", "map",
+                            "report"]
     [steps.<step>]   that step's options (STEP_OPTIONS)
-    [helicopters.<name>]  model = spec (shipped name or path), calibration = still-air flight
+    [helicopters.<name>]  model = spec (shipped name or path), calibration = still-air flight,
+                     still_air = [more still-air flights for its still-air wind net]
     [[flights]]      path = glob, helicopter?, beta_deg?, day?
 
 Paths are relative to the campaign file. A flight's beta, helicopter and day come from
@@ -19,6 +21,15 @@ its entry, else from its metadata (a `campaign` table: what `airwake sim campaig
 writes; beta also from a simulated ship flight's relative wind), else (helicopter) the
 campaign's only helicopter. Every problem is one `CampaignError` naming the file, the key
 and the value, raised before any step runs.
+
+The estimate: with the `still_air_net` step, a helicopter with still-air flights (its
+calibration flight and its `still_air` list) gets a still-air wind net, and its flights'
+wind is `method = "anchored"` unless the file says otherwise: the net's mean flow, its
+interval widened by the helicopter's model, anchors the model's smoother, which reads the
+rotation given it (what `make demo` maps: on a helicopter the model was not written for
+the model's own mean flow is biased, docs/calibration.md). A helicopter without still-air
+flights keeps the smoother; `method = "anchored"` named in the file needs every flying
+helicopter to have them.
 """
 
 from __future__ import annotations
@@ -32,11 +43,14 @@ from typing import Any
 
 from airwake.campaign.errors import CampaignError
 
-STEPS = ("export", "calibrate", "estimate", "map", "report")
+STEPS = ("export", "calibrate", "still_air_net", "estimate", "map", "report")
 TABLE_SUFFIXES = (".parquet", ".pq", ".csv")
 TOP_KEYS = ("name", "description", "grid", "steps", "helicopters", "flights")
 FLIGHT_KEYS = ("path", "helicopter", "beta_deg", "day")
-HELICOPTER_KEYS = ("model", "calibration")
+HELICOPTER_KEYS = ("model", "calibration", "still_air")
+# the estimate with a still-air net: the net's mean flow (its interval widened by the
+# helicopter's model) anchors the model's smoother, which reads the rotation given it
+ANCHORED = "anchored"
 
 
 @dataclass(frozen=True)
@@ -54,8 +68,8 @@ class Option:
     lo_open: bool = False
 
 
-# what each step accepts: the options of `airwake export`, `calibrate`, `wind estimate`,
-# `wind map` and `model report` (their docs), spelled as in those commands
+# what each step accepts: the options of `airwake export`, `calibrate`, `nets train`,
+# `wind estimate`, `wind map` and `model report` (their docs), spelled as in those commands
 STEP_OPTIONS: dict[str, dict[str, Option]] = {
     "export": {
         "latency_correction": Option("bool", "remove_stamp_latency"),
@@ -77,9 +91,15 @@ STEP_OPTIONS: dict[str, dict[str, Option]] = {
         "pso_windows": Option("int", "pso_windows", lo=0),
         "max_nfev": Option("int", "max_nfev", lo=1),
         "cutoff_hz": Option("float", "cutoff_hz", lo=0.0),
+        # then `model diagnose` + `model add` of the effect it names (airwake.discrepancy.step)
+        "discrepancy": Option("bool", "discrepancy"),
+    },
+    "still_air_net": {
+        "seed": Option("int", "seed", lo=0),
+        "max_rows": Option("int", "max_rows", lo=1000),
     },
     "estimate": {
-        "method": Option("str", "method", choices=("smoother", "apf", "net")),
+        "method": Option("str", "method", choices=("smoother", "apf", "net", ANCHORED)),
         "net": Option("path", "net"),
         "cutoff_hz": Option("float", "cutoff_hz", lo=0.0),
         "rate_hz": Option("float", "rate_hz", lo=0.0, lo_open=True),
@@ -160,6 +180,12 @@ class Helicopter:
     name: str
     model: str  # shipped spec name or absolute path
     calibration: Source | None = None
+    still_air: tuple[Source, ...] = ()  # more still-air flights for its still-air net
+
+    @property
+    def still_air_flights(self) -> tuple[Source, ...]:
+        """What its still-air wind net learns from: the calibration flight and the rest."""
+        return ((self.calibration,) if self.calibration else ()) + self.still_air
 
 
 @dataclass(frozen=True)
@@ -350,7 +376,12 @@ def _helicopters(where: _Where, table: dict, base: Path) -> dict:
             if not isinstance(value, str):
                 raise where.error(f"{prefix}.calibration", value, "expected a file path")
             cal = _source(where, f"{prefix}.calibration", base / value, value)
-        out[name] = Helicopter(name, model, cal)
+        still = entry.get("still_air", [])
+        if not (isinstance(still, list) and all(isinstance(v, str) and v for v in still)):
+            raise where.error(f"{prefix}.still_air", still, "expected a list of still-air "
+                              "flight paths")
+        sources = tuple(_source(where, f"{prefix}.still_air", base / v, v) for v in still)
+        out[name] = Helicopter(name, model, cal, sources)
     return out
 
 
@@ -447,11 +478,21 @@ def load_campaign(path) -> Campaign:
     steps, options = _steps(where, _table(where, "steps", data.get("steps", {})), base)
     helis = _helicopters(where, _table(where, "helicopters", data.get("helicopters", {})),
                          base)
-    cal_files = {h.calibration.path for h in helis.values() if h.calibration}
-    flights = _flights(where, data.get("flights"), base, helis, cal_files)
+    still_files = {s.path for h in helis.values() for s in h.still_air_flights}
+    flights = _flights(where, data.get("flights"), base, helis, still_files)
     recordings = [f for f in flights if f.source.kind == "recording"] + [
-        h for h in helis.values() if h.calibration and h.calibration.kind == "recording"]
+        s for h in helis.values() for s in h.still_air_flights if s.kind == "recording"]
     if recordings and "export" not in steps:
         raise where.error("steps.run", list(steps), "recordings need the 'export' step")
+    if options["estimate"].get("method") == ANCHORED and "estimate" in steps:
+        if "still_air_net" not in steps:
+            raise where.error("steps.estimate.method", ANCHORED, "needs the 'still_air_net' "
+                              "step in steps.run (the mean flow the smoother is anchored on)")
+        for h in sorted({f.helicopter for f in flights}):
+            if not helis[h].still_air_flights:
+                raise where.error(f"helicopters.{h}", None, "steps.estimate.method = "
+                                  "'anchored' needs still-air flights of this helicopter "
+                                  "(calibration = ..., still_air = [...]) for its "
+                                  "still-air wind net")
     return Campaign(p.resolve(), data.get("name", p.stem), data.get("description", ""),
                     grid, steps, options, helis, flights)

@@ -1,6 +1,6 @@
 """The campaign's steps: each calls the public API of the command a user would run by hand
-(`airwake export`, `calibrate`, `wind estimate`, `wind map`, `model report`) and writes
-into the task's scratch directory.
+(`airwake export`, `calibrate`, `nets train --target wind --still-air`, `wind estimate`,
+`wind map`, `model report`) and writes into the task's scratch directory.
 
     summary, outputs = STEPS[task.step](task, inputs, out_dir)
 
@@ -43,42 +43,96 @@ def export(task, inputs: dict, out: Path):
 
 
 def calibrate(task, inputs: dict, out: Path):
+    """`airwake calibrate` of the helicopter's still-air flight, then (option `discrepancy`,
+    default on) `model diagnose` on it and `model add` of the effect its verdict names
+    (`airwake.discrepancy.step`: docs/calibration.md's sequence, what `make demo` does):
+    the model output is the one the wind is estimated with."""
     from airwake.calibrate import calibrate as fit
     from airwake.calibrate.commands import calibration_table
+    from airwake.discrepancy.step import discrepancy_step
     from airwake.heli import save_spec
     from airwake.heli.context import MEAS_CHANNELS
 
     flight = inputs["flight"]
     start = task.args["start"]
-    result = fit(flight, model=start, **task.args["options"])
-    save_spec(result.model, out / "model.toml",
+    opts = dict(task.args["options"])
+    discrepancy = opts.pop("discrepancy", True)
+    result = fit(flight, model=start, **opts)
+    save_spec(result.model, out / "calibrated.toml",
               description=f"calibrated by airwake campaign from {Path(flight).name} "
               f"(start {start})", calibration=calibration_table(result, flight, start))
-    return ({"method": result.method, "samples": result.info.get("samples"),
-             "free_parameters": list(result.names),
-             "rms_before": dict(zip(MEAS_CHANNELS, map(float, result.rms_before),
-                                    strict=True)),
-             "rms_after": dict(zip(MEAS_CHANNELS, map(float, result.rms_after), strict=True)),
-             "notes": list(result.notes)},
-            {"model": "model.toml"})
+    summary = {"method": result.method, "samples": result.info.get("samples"),
+               "free_parameters": list(result.names),
+               "rms_before": dict(zip(MEAS_CHANNELS, map(float, result.rms_before),
+                                      strict=True)),
+               "rms_after": dict(zip(MEAS_CHANNELS, map(float, result.rms_after),
+                                     strict=True)),
+               "notes": list(result.notes), "added": None}
+    model = "calibrated.toml"
+    if discrepancy:
+        step = discrepancy_step(flight, out / "calibrated.toml", out / "added.toml")
+        summary.update(diagnosis=step["diagnosis"], added=step["added"], why=step["why"])
+        if step["added"]:
+            model = "added.toml"
+            summary["rms_after"] = {c: float(v) for c, v in step["after"].items()}
+    return summary, {"model": model, "calibrated": "calibrated.toml"}
+
+
+def still_air_net(task, inputs: dict, out: Path):
+    """The helicopter's still-air wind net (`airwake nets train --target wind --still-air`)
+    on its still-air flights: the mean flow with no model (docs/networks.md)."""
+    from airwake.estimate.net_interval import MEAN_FLOW
+    from airwake.nets.model import save_net
+    from airwake.nets.wind_net import train_wind_net
+
+    flights = {**task.args["flights"],
+               **{r: p for r, p in inputs.items() if r.startswith("flight ")}}
+    paths = [flights[r] for r in sorted(flights, key=lambda r: int(r.split()[1]))]
+    net = train_wind_net(paths, still_air=True, **task.args["options"])
+    save_net(net, out / "still_air_net.pt")
+    card = net.card
+    rms = {o: card["validation_rms"][o]["net"] for o in MEAN_FLOW}  # it reads no rotation
+    return ({"flights": [Path(p).name for p in paths], "validation_rms": rms,
+             "training_rows": card["training_rows"]},
+            {"net": "still_air_net.pt"})
 
 
 def estimate(task, inputs: dict, out: Path):
+    """`airwake wind estimate`; anchored (spec.ANCHORED): the still-air net's mean flow
+    with its interval widened by the model (`--method net --interval-model`), written as
+    mean_flow.parquet, then the model's smoother anchored on it (`--anchor`)."""
     from airwake.calibrate import load_flight
+    from airwake.campaign.spec import ANCHORED
     from airwake.estimate import estimate_wind, score_wind, write_wind
 
     ft = load_flight(inputs["flight"])
-    est = estimate_wind(ft, model=inputs["model"], **task.args["options"])
+    opts = dict(task.args["options"])
+    outputs = {"wind": "wind.parquet"}
+    mean_flow = None
+    if opts.get("method") == ANCHORED:
+        opts.pop("method")
+        mean_flow = estimate_wind(ft, method="net", net=inputs["net"],
+                                  interval_model=inputs["model"])
+        write_wind(mean_flow, out / "mean_flow.parquet")
+        outputs["mean_flow"] = "mean_flow.parquet"
+        est = estimate_wind(ft, model=inputs["model"], anchor=mean_flow.df, **opts)
+        est.metadata["anchor"] = "mean_flow.parquet (the still-air net's, this task's)"
+    else:
+        est = estimate_wind(ft, model=inputs["model"], **opts)
     write_wind(est, out / "wind.parquet")
     summary = {"samples": int(len(est.df)), "flight_rows": int(len(ft.df)),
                "duration_s": float(ft.df["t_s"].iloc[-1] - ft.df["t_s"].iloc[0]),
+               "method": task.args["options"].get("method", "smoother"),
                "realtime_factor": float(est.metadata["realtime_factor"])}
+    if mean_flow is not None:
+        summary["realtime_factor"] = float(
+            summary["duration_s"] / (est.seconds + mean_flow.seconds))
     if _has_truth(ft.df):
         comps = score_wind(est.df, ft.df)["components"]
         summary["wind_error"] = {n: {k: c[k] for k in ("error_mean", "error_std", "error_rms",
                                                         "coverage_90")}
                                  for n, c in comps.items()}
-    return summary, {"wind": "wind.parquet"}
+    return summary, outputs
 
 
 def map_flight(task, inputs: dict, out: Path):
@@ -149,5 +203,6 @@ def merge(task, inputs: dict, out: Path):
     return summary, {"page": "index.html", "map": "map.parquet"}
 
 
-STEPS = {"export": export, "calibrate": calibrate, "estimate": estimate, "map": map_flight,
+STEPS = {"export": export, "calibrate": calibrate, "still_air_net": still_air_net,
+         "estimate": estimate, "map": map_flight,
          "report": report, "merge": merge}
