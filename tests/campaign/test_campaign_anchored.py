@@ -45,6 +45,7 @@ def test_anchored_campaign_trains_a_net_per_helicopter_and_anchors_every_estimat
     for name in ("beta0_01", "beta15_01"):
         rec = run.records[run.plan.by_subject[name]["estimate"]]
         assert rec["summary"]["method"] == "anchored"
+        assert 0.0 <= rec["summary"]["net_training_envelope_inside"] <= 1.0
         wind, meta = read_flight_table(store.output(rec, "wind"))
         mean_flow, mmeta = read_flight_table(store.output(rec, "mean_flow"))
         assert mmeta["method"] == "net" and "above 0.1 Hz" in mmeta["std_is"]

@@ -75,7 +75,9 @@ def test_calibration_flights_are_not_also_flights(tree):
     ({"helicopters": {"h1": {"still_air": "cal/still.parquet"}}},
      "helicopters.h1.still_air", "'cal/still.parquet'"),
     ({"helicopters": {"h1": {"still_air": ["cal/none.parquet"]}}},
-     "helicopters.h1.still_air", "'cal/none.parquet'"),
+     "helicopters.h1.still_air[0]", "'cal/none.parquet'"),
+    ({"helicopters": {"h1": {"still_air": ["cal/still.parquet"]}}},
+     "helicopters.h1.still_air[0]", "'cal/still.parquet'"),
     ({"steps": {"run": ["calibrate", "estimate"], "estimate": {"method": "anchored"}}},
      "steps.estimate.method", "'anchored'"),
     ({"steps": {"still_air_net": {"max_rows": 10}}}, "steps.still_air_net.max_rows", "10"),
@@ -130,13 +132,54 @@ def test_still_air_flights_feed_the_net_and_set_the_estimate_anchored(tree):
     bare = {"helicopters": {"h1": {"model": "table52"}},
             "steps": {"estimate": {"method": "anchored"}},
             "flights": [{"path": "f/*"}]}
-    with pytest.raises(CampaignError, match="helicopters.h1 = None: .*still-air flights"):
+    with pytest.raises(CampaignError, match=r"helicopters.h1.still_air = \[\]: .*still-air "
+                       "flights"):
         load_campaign(_write(tree, bare))
     # with the default method such a helicopter keeps the smoother
     del bare["steps"]
     plan = build_plan(load_campaign(_write(tree, bare)), DigestCache(tree / "digests"))
     assert "still_air_net" not in plan.by_subject.get("h1", {})
     assert plan.task(plan.by_subject["a"]["estimate"]).args["options"]["method"] == "smoother"
+    # and so does one with only its calibration flight (a net on its short legs alone reads
+    # part of a headwind), unless the file asks for anchored: then the net is on it
+    plan = build_plan(load_campaign(_write(tree, GOOD)), DigestCache(tree / "digests"))
+    assert "still_air_net" not in plan.by_subject["h1"]
+    asked = {**GOOD, "steps": {"estimate": {"method": "anchored"}}}
+    plan = build_plan(load_campaign(_write(tree, asked)), DigestCache(tree / "digests"))
+    net = plan.task(plan.by_subject["h1"]["still_air_net"])
+    assert net.args["flights"] == {"flight 0": str(tree / "cal" / "still.parquet")}
+
+
+def test_a_net_and_its_estimates_are_keyed_by_the_still_air_data_and_options(tree):
+    # content addressing: what the net learns from and how reach every result that reads
+    # it, and nothing else
+    from airwake.campaign.plan import build_plan
+    from airwake.campaign.store import DigestCache
+
+    cruise = _flight(tree / "cal" / "cruise.parquet", {})
+    table = {"helicopters": {"h1": {"model": "table52", "calibration": "cal/still.parquet",
+                                    "still_air": ["cal/cruise.parquet"]}},
+             "flights": [{"path": "f/*"}]}
+
+    def keys(t):
+        plan = build_plan(load_campaign(_write(tree, t)), DigestCache(tree / "d.json"))
+        return {step: plan.by_subject[subject][step] for subject, step in (
+            ("h1", "calibrate"), ("h1", "still_air_net"), ("a", "estimate"), ("a", "map"))}
+
+    base = keys(table)
+    seeded = keys({**table, "steps": {"still_air_net": {"seed": 3}}})
+    assert seeded["calibrate"] == base["calibrate"]
+    assert all(seeded[k] != base[k] for k in ("still_air_net", "estimate", "map"))
+    df = pd.DataFrame({"t_s": np.arange(4) * 0.01, "acc_x_m_s2": np.ones(4)})
+    write_flight_table(df, cruise, {})  # other bytes in a still-air flight
+    changed = keys(table)
+    assert changed["calibrate"] == base["calibrate"]
+    assert all(changed[k] != base[k] for k in ("still_air_net", "estimate", "map"))
+    # the method is in the estimate's key; with the smoother nothing reads a net: none made
+    plan = build_plan(load_campaign(_write(tree, {**table, "steps": {
+        "estimate": {"method": "smoother"}}})), DigestCache(tree / "d.json"))
+    assert "still_air_net" not in plan.by_subject["h1"]
+    assert plan.by_subject["a"]["estimate"] != changed["estimate"]
 
 
 def test_recordings_need_the_export_step(tree):

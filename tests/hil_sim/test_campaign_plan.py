@@ -57,6 +57,8 @@ def test_scenarios_load_and_say_what_they_fly(tmp_path):
     assert sc.wind["type"] == "ship_airwake" and sc.ship is not None
     assert sc.duration_s == 20.0 and sc.seed == f.seed
     assert sc.pilot.segments[1].a_m[0] == f.stations_x_m[0]
+    # the planned heights are the hub's (what the map bins)
+    assert sc.pilot.point == "hub" and sc.pilot.segments[1].a_m[2] == -f.height_m
     cal = tmp_path / "c.toml"
     cal.write_text(tomli_w.dumps(calibration_scenario("heli1", 9, duration_s=30.0)))
     sc = load_scenario(cal)

@@ -102,9 +102,12 @@ def build_plan(campaign: Campaign, digests: DigestCache) -> Plan:
             models[h.name] = ({"model": start}, {}, {"model": h.model})
 
     nets = {}  # helicopter -> the key of its still-air net
+    flying = {f.helicopter for f in campaign.flights}
     for h in campaign.helicopters.values():
-        if "still_air_net" not in steps or not h.still_air_flights:
+        if "still_air_net" not in steps or h.name not in flying or not h.still_air_flights:
             continue
+        if opts["estimate"].get("method", ANCHORED if h.still_air else None) != ANCHORED:
+            continue  # no estimate of it would read the net (spec module doc)
         ident, deps, files = {}, {}, []
         for i, source in enumerate(h.still_air_flights):
             role = f"flight {i}"

@@ -22,14 +22,16 @@ writes; beta also from a simulated ship flight's relative wind), else (helicopte
 campaign's only helicopter. Every problem is one `CampaignError` naming the file, the key
 and the value, raised before any step runs.
 
-The estimate: with the `still_air_net` step, a helicopter with still-air flights (its
-calibration flight and its `still_air` list) gets a still-air wind net, and its flights'
-wind is `method = "anchored"` unless the file says otherwise: the net's mean flow, its
-interval widened by the helicopter's model, anchors the model's smoother, which reads the
-rotation given it (what `make demo` maps: on a helicopter the model was not written for
-the model's own mean flow is biased, docs/calibration.md). A helicopter without still-air
-flights keeps the smoother; `method = "anchored"` named in the file needs every flying
-helicopter to have them.
+The estimate: with the `still_air_net` step, a helicopter with a `still_air` list (speed
+legs in still air) gets a still-air wind net on those flights and its calibration flight,
+and its flights' wind is `method = "anchored"` unless the file says otherwise: the net's
+mean flow, its interval widened by the helicopter's model, anchors the model's smoother,
+which reads the rotation given it (what `make demo` maps: on a helicopter the model was
+not written for the model's own mean flow is biased, docs/calibration.md). A helicopter
+without a `still_air` list keeps the smoother (a net on the calibration flight's short
+legs alone reads ~80 % of a steady headwind, docs/networks.md); `method = "anchored"`
+named in the file anchors every flying helicopter on a net of its still-air flights (the
+calibration flight at least) and refuses one that has none.
 """
 
 from __future__ import annotations
@@ -377,11 +379,21 @@ def _helicopters(where: _Where, table: dict, base: Path) -> dict:
                 raise where.error(f"{prefix}.calibration", value, "expected a file path")
             cal = _source(where, f"{prefix}.calibration", base / value, value)
         still = entry.get("still_air", [])
-        if not (isinstance(still, list) and all(isinstance(v, str) and v for v in still)):
+        if not isinstance(still, list):
             raise where.error(f"{prefix}.still_air", still, "expected a list of still-air "
                               "flight paths")
-        sources = tuple(_source(where, f"{prefix}.still_air", base / v, v) for v in still)
-        out[name] = Helicopter(name, model, cal, sources)
+        sources, seen = [], {cal.path} if cal else set()
+        for i, v in enumerate(still):
+            key = f"{prefix}.still_air[{i}]"
+            if not (isinstance(v, str) and v):
+                raise where.error(key, v, "expected a still-air flight path")
+            src = _source(where, key, base / v, v)
+            if src.path in seen:
+                raise where.error(key, v, "listed twice (the calibration flight is in the "
+                                  "still-air net already)")
+            seen.add(src.path)
+            sources.append(src)
+        out[name] = Helicopter(name, model, cal, tuple(sources))
     return out
 
 
@@ -490,7 +502,7 @@ def load_campaign(path) -> Campaign:
                               "step in steps.run (the mean flow the smoother is anchored on)")
         for h in sorted({f.helicopter for f in flights}):
             if not helis[h].still_air_flights:
-                raise where.error(f"helicopters.{h}", None, "steps.estimate.method = "
+                raise where.error(f"helicopters.{h}.still_air", [], "steps.estimate.method = "
                                   "'anchored' needs still-air flights of this helicopter "
                                   "(calibration = ..., still_air = [...]) for its "
                                   "still-air wind net")

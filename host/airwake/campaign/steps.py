@@ -49,6 +49,7 @@ def calibrate(task, inputs: dict, out: Path):
     the model output is the one the wind is estimated with."""
     from airwake.calibrate import calibrate as fit
     from airwake.calibrate.commands import calibration_table
+    from airwake.discrepancy.errors import DiscrepancyError
     from airwake.discrepancy.step import discrepancy_step
     from airwake.heli import save_spec
     from airwake.heli.context import MEAS_CHANNELS
@@ -70,11 +71,17 @@ def calibrate(task, inputs: dict, out: Path):
                "notes": list(result.notes), "added": None}
     model = "calibrated.toml"
     if discrepancy:
-        step = discrepancy_step(flight, out / "calibrated.toml", out / "added.toml")
+        try:
+            step = discrepancy_step(flight, out / "calibrated.toml", out / "added.toml")
+        except DiscrepancyError as exc:  # the calibrated model stands; the reason is kept
+            step = {"diagnosis": "", "added": None,
+                    "why": f"the discrepancy step failed ({exc}): the calibrated model is used"}
         summary.update(diagnosis=step["diagnosis"], added=step["added"], why=step["why"])
         if step["added"]:
             model = "added.toml"
-            summary["rms_after"] = {c: float(v) for c, v in step["after"].items()}
+            # `model add`'s own comparison over the flight (not the fit's windows)
+            summary["added_rms_before"] = {c: float(v) for c, v in step["before"].items()}
+            summary["added_rms_after"] = {c: float(v) for c, v in step["after"].items()}
     return summary, {"model": model, "calibrated": "calibrated.toml"}
 
 
@@ -92,7 +99,9 @@ def still_air_net(task, inputs: dict, out: Path):
     save_net(net, out / "still_air_net.pt")
     card = net.card
     rms = {o: card["validation_rms"][o]["net"] for o in MEAN_FLOW}  # it reads no rotation
-    return ({"flights": [Path(p).name for p in paths], "validation_rms": rms,
+    names = {r: Path(p).name for r, p in task.args["flights"].items()}
+    return ({"flights": [names.get(r, f"{r} (exported)") for r in sorted(
+                 flights, key=lambda r: int(r.split()[1]))], "validation_rms": rms,
              "training_rows": card["training_rows"]},
             {"net": "still_air_net.pt"})
 
@@ -111,8 +120,11 @@ def estimate(task, inputs: dict, out: Path):
     mean_flow = None
     if opts.get("method") == ANCHORED:
         opts.pop("method")
+        # the front end and the INS error the user set hold for the net's interval too
+        shared = {k: opts[k] for k in ("cutoff_hz", "rate_hz", "em_passes", "airspeed_m_s",
+                                        "ins_velocity_std") if k in opts}
         mean_flow = estimate_wind(ft, method="net", net=inputs["net"],
-                                  interval_model=inputs["model"])
+                                  interval_model=inputs["model"], **shared)
         write_wind(mean_flow, out / "mean_flow.parquet")
         outputs["mean_flow"] = "mean_flow.parquet"
         est = estimate_wind(ft, model=inputs["model"], anchor=mean_flow.df, **opts)
@@ -127,6 +139,9 @@ def estimate(task, inputs: dict, out: Path):
     if mean_flow is not None:
         summary["realtime_factor"] = float(
             summary["duration_s"] / (est.seconds + mean_flow.seconds))
+        # how far the net can be trusted on this flight (its training's air velocities)
+        summary["net_training_envelope_inside"] = mean_flow.metadata.get(
+            "training_envelope_inside")
     if _has_truth(ft.df):
         comps = score_wind(est.df, ft.df)["components"]
         summary["wind_error"] = {n: {k: c[k] for k in ("error_mean", "error_std", "error_rms",
