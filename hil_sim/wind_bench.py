@@ -111,7 +111,7 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
          "--out", str(still))
     _cli("calibrate", str(still), "--model", "table52", "--max-windows", "24", "--out",
          str(base))
-    from airwake.discrepancy.step import discrepancy_step
+    from airwake.calibrate.sequence import discrepancy_step
 
     step = discrepancy_step(still, base, d / "added.toml",
                             run=lambda *args: json.loads(_cli(*args, "--quiet")))

@@ -56,7 +56,7 @@ import sys
 import time
 from pathlib import Path
 
-from airwake.discrepancy.step import REFINE, candidates_text, discrepancy_step
+from airwake.calibrate.sequence import REFINE, candidates_text, discrepancy_step
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 CALIBRATION_START = "table52"

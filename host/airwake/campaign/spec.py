@@ -93,7 +93,7 @@ STEP_OPTIONS: dict[str, dict[str, Option]] = {
         "pso_windows": Option("int", "pso_windows", lo=0),
         "max_nfev": Option("int", "max_nfev", lo=1),
         "cutoff_hz": Option("float", "cutoff_hz", lo=0.0),
-        # then `model diagnose` + `model add` of the effect it names (airwake.discrepancy.step)
+        # then `model diagnose` + `model add` of the effect it names (airwake.calibrate.sequence)
         "discrepancy": Option("bool", "discrepancy"),
     },
     "still_air_net": {

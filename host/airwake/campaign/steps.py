@@ -45,12 +45,12 @@ def export(task, inputs: dict, out: Path):
 def calibrate(task, inputs: dict, out: Path):
     """`airwake calibrate` of the helicopter's still-air flight, then (option `discrepancy`,
     default on) `model diagnose` on it and `model add` of the effect its verdict names
-    (`airwake.discrepancy.step`: docs/calibration.md's sequence, what `make demo` does):
+    (`airwake.calibrate.sequence`: docs/calibration.md's sequence, what `make demo` does):
     the model output is the one the wind is estimated with."""
     from airwake.calibrate import calibrate as fit
     from airwake.calibrate.commands import calibration_table
+    from airwake.calibrate.sequence import discrepancy_step
     from airwake.discrepancy.errors import DiscrepancyError
-    from airwake.discrepancy.step import discrepancy_step
     from airwake.heli import save_spec
     from airwake.heli.context import MEAS_CHANNELS
 

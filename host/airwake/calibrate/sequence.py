@@ -6,6 +6,10 @@ model add` of the effect the verdict names) and as `make demo`, the wind bench a
     step = discrepancy_step("calibration.parquet", "baseline.toml", "model.toml")
     step["model"]      # the spec to estimate the wind with: out, or base when nothing added
 
+The demo's driver and the wind bench (hil_sim) pass `run`: the commands, as a user types
+them; hil_sim imports nothing of the discrepancy package (tests/hil_sim/
+test_hidden_independence.py), which only the in-process default loads.
+
 Why it matters for the wind, measured on the blade-element truth (the bench's still-air
 calibration flight, the model smoother anchored on the still-air net's mean flow, ship
 flights b0 seed 41 and b15 seed 48): the calibrated model alone reads the rotation about
