@@ -519,10 +519,11 @@ def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dic
     field_ = build_wind_field(scenario.wind, rng=rngs["wind"], ship=ship)
     frame = PlanFrame(scenario.pilot.frame, ship)
     # the pilot flies the CG: a script for the hub is moved by the airframe's hub offset
-    flown_scenario = scenario
+    flown_scenario, built = scenario, None
     if scenario.pilot.point != "cg":
+        built = build_truth(scenario)
         flown_scenario = dataclasses.replace(scenario, pilot=cg_script(
-            scenario.pilot, build_truth(scenario).heli.hub_offset_body_m))
+            scenario.pilot, built.heli.hub_offset_body_m))
     pc = flown_scenario.pilot
     rc_timing = scenario.sensors.rc.timing
     knots = sample_times(0.0, duration + 1.0 / rc_timing.frame_rate_hz,
@@ -542,7 +543,7 @@ def _run_blade_element(scenario: Scenario, seed: int, duration: float, rngs: dic
         return pilot
 
     flown = fly(flown_scenario, duration, rngs, field_, ship, frame, knots, ref, ref_vel_ned,
-                progress=progress, make_pilot=pilot_factory)
+                progress=progress, make_pilot=pilot_factory, truth=built)
     t_integrated = time.perf_counter()
     truth = flown.truth
     ts = flown.t_s

@@ -195,18 +195,20 @@ def surface_function(ship):
 
 
 def fly(scenario, duration_s: float, rngs: dict, field_, ship, frame, knots: np.ndarray,
-        reference, reference_vel_ned: np.ndarray, progress=None, make_pilot=None) -> Flown:
+        reference, reference_vel_ned: np.ndarray, progress=None, make_pilot=None,
+        truth=None) -> Flown:
     """Fly the scenario (module docstring). `frame`: run.PlanFrame; `knots`: the pilot's
     decision times, `reference` the flight plan on them and `reference_vel_ned` (K, 3) its
     velocity in NED; `make_pilot(a, b, trim12, trim) -> pilot` builds the pilot from the
-    quasi-steady linear model at the initial trim."""
+    quasi-steady linear model at the initial trim; `truth`: the scenario's built
+    (`build_truth`), when the caller has it already."""
     import time
 
     from hil_sim.world.run import SimulationError
 
     clock = time.perf_counter
     t_begin = clock()
-    truth = build_truth(scenario)
+    truth = build_truth(scenario) if truth is None else truth
     heli = truth.heli
     dt = heli.dt
     surface = surface_function(ship)

@@ -73,8 +73,10 @@ def _run_dask(client, plan: Plan, todo: list, records: dict, store: Store,
 
     models = sorted({t.args["start"] for t in plan.tasks if t.step == "calibrate"}
                     | {t.args["model"] for t in plan.tasks if "model" in t.args})
+    # a step uses a network: a still-air net's training (an anchored estimate reads it)
+    # or a wind net's estimate
     nets = any(t.step == "still_air_net" or (t.step == "estimate" and t.args["options"].get(
-        "method") in ("net", "anchored")) for t in plan.tasks)
+        "method") == "net") for t in plan.tasks)
     client.register_plugin(WarmWorker(models or ("table52",), torch=nets))
     client.subscribe_topic(EVENT_TOPIC, lambda event: display.started(event[1]["step"]))
     futures = {}

@@ -104,10 +104,10 @@ def build_plan(campaign: Campaign, digests: DigestCache) -> Plan:
     nets = {}  # helicopter -> the key of its still-air net
     flying = {f.helicopter for f in campaign.flights}
     for h in campaign.helicopters.values():
-        if "still_air_net" not in steps or h.name not in flying or not h.still_air_flights:
+        # a net only where an estimate reads it
+        if ("estimate" not in steps or h.name not in flying
+                or campaign.estimate_method(h.name) != ANCHORED):
             continue
-        if opts["estimate"].get("method", ANCHORED if h.still_air else None) != ANCHORED:
-            continue  # no estimate of it would read the net (spec module doc)
         ident, deps, files = {}, {}, []
         for i, source in enumerate(h.still_air_flights):
             role = f"flight {i}"
@@ -127,8 +127,7 @@ def build_plan(campaign: Campaign, digests: DigestCache) -> Plan:
         if "estimate" in steps:
             net = ({"net": digests.digest(Path(opts["estimate"]["net"]))}
                    if "net" in opts["estimate"] else {})
-            method = opts["estimate"].get(
-                "method", ANCHORED if f.helicopter in nets else "smoother")
+            method = campaign.estimate_method(f.helicopter)
             anchor = {"net": nets[f.helicopter]} if method == ANCHORED else {}
             wind = add("estimate", f.name, {**f_ident, **m_ident, **net, "method": method},
                        {**f_deps, **m_deps, **anchor},

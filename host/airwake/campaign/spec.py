@@ -214,6 +214,16 @@ class Campaign:
     def betas(self) -> list[float]:
         return sorted({f.beta_deg for f in self.flights})
 
+    def estimate_method(self, helicopter: str) -> str:
+        """How the flights of `helicopter` are estimated (module docstring): the file's
+        method, else anchored for a helicopter with a `still_air` list when the
+        `still_air_net` step runs, else the smoother."""
+        given = self.options["estimate"].get("method")
+        if given is not None:
+            return given
+        anchored = "still_air_net" in self.steps and self.helicopters[helicopter].still_air
+        return ANCHORED if anchored else "smoother"
+
 
 class _Where:
     """Error messages naming the campaign file and the key path."""
