@@ -46,7 +46,8 @@ def test_good_file_reads_beta_helicopter_and_day_from_metadata(tree):
     assert by["b"].beta_deg == 30.0  # a simulated ship flight's relative wind
     assert camp.steps == ("export", "calibrate", "still_air_net", "estimate", "map", "report")
     assert camp.helicopters["h1"].calibration.path == (tree / "cal" / "still.parquet")
-    # its still-air net learns from the calibration flight (no other still-air flight here)
+    # its still-air flights: the calibration flight only (a net on it is made only when
+    # the file names method = "anchored": test below)
     assert [s.path for s in camp.helicopters["h1"].still_air_flights] == [
         tree / "cal" / "still.parquet"]
 
