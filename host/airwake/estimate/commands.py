@@ -66,7 +66,8 @@ def _handle(args: argparse.Namespace) -> int:
         jitter=args.jitter, seed=args.seed, process_std=args.process_std,
         channel_scale=args.channel_scale, progress=sys.stderr.isatty() or args.progress,
         net=args.net, interval_model=args.interval_model, anchor=args.anchor,
-        rotation_from_mean_flow=args.rotation_sigma != "learned")
+        rotation_from_mean_flow=args.rotation_sigma != "learned",
+        model_error=args.model_error)
     write_wind(est, args.out)
     report = {"out": str(args.out), "method": args.method, "samples": int(len(est.df)),
               "seconds": est.seconds, "realtime_factor": est.metadata["realtime_factor"]}
@@ -228,6 +229,12 @@ def register(subparsers) -> None:
                    "sigma per axis (m/s^2; its data sheet): a steady force the estimate "
                    "cannot tell from a steady wind, added to the model's own steady misfit "
                    "in the intervals (default: none given, only the model's)")
+    p.add_argument("--model-error", choices=("consider", "states"), default="consider",
+                   help="smoother: the model's steady misfit per channel (its spec's "
+                   "model_error_offset) kept out of the estimate and its effect added to the "
+                   "intervals (consider, forces only; default), or estimated as slowly "
+                   "varying bias states beside the wind (states: best with --anchor, which "
+                   "pins the mean flow; docs/wind-estimation.md)")
     p.add_argument("--particles", type=int, default=2000, help="apf: particles (2000)")
     p.add_argument("--seed", type=int, default=0, help="apf: random seed (0)")
     p.add_argument("--sigma", type=float, default=0.5,

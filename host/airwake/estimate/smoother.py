@@ -7,14 +7,28 @@ flight (expectation-maximisation).
     res.mean, res.std            # (n, 6) smoothed eq 5.3 wind and its posterior std
     res.prior, res.noise_std     # the prior and channel noise the flight taught it
 
-State of sample k (N = m + 12):
+State of sample k (N = m + 12 + n_b):
 
     s = [h (m) rotor states (flapping, lead-lag, flybar, ...), mu (6) mean wind, xi (6)
-         turbulence],   wind w = mu + xi
+         turbulence, b (n_b) the model's slow misfit on the channels given one],
+    wind w = mu + xi
 
     dh/dt   = f_h(h, body(t), u(t), w)        the model's rotor dynamics (measured body motion)
     d mu/dt, d xi/dt                          the wind prior (`airwake.estimate.wind_prior`)
-    z_k     = z_hat(h_k, body_k, u_k, w_k) + e_k,   e_k ~ N(0, diag(noise_std^2))
+    db/dt   = -b / tau_b + noise              Gauss-Markov, stationary std sigma_b per channel
+    z_k     = z_hat(h_k, body_k, u_k, w_k) + b_k + e_k,   e_k ~ N(0, diag(noise_std^2))
+
+The bias states (`channel_bias` = (sigma_b (6,), tau_b)) are the model error that is not
+white: a calibrated model of a foreign airframe misses a force or moment that depends on
+the flight condition and so holds for tens of seconds (the still-air flight's
+`model_error_offset`: the RMS of its 30 s blocks' mean misfit). Without them the smoother
+reads such a misfit as a steady wind, with the confidence of white noise averaged over
+the flight (docs/calibration.md "six channels, six unknowns"); with them a steady misfit
+and a steady wind share the channel by their prior stds, and the interval says so. The
+wind estimate uses them on request (`--model-error states`): with an anchor they find a
+steady force exactly where the model fits; on the blade-element airframe the split by
+prior stds is not better than the considered offsets (docs/wind-estimation.md "The
+model's slow misfit as states").
 
 on the front end's low-passed, decimated samples (`airwake.estimate.prefilter`).
 
@@ -66,7 +80,9 @@ yaw read it.
 
 from __future__ import annotations
 
+import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -138,7 +154,9 @@ class SmootherResult:
     prior (learned), noise_std (6,), history (per pass: log-likelihood, prior, noise),
     seconds, evaluations (model rows); fast_std (n, 6) the smoothed posterior std of the
     turbulence part xi alone (the Gauss-Markov states, not the slow mean mu): the fast
-    wind the flight did not show the smoother (`airwake.estimate.net_interval`)."""
+    wind the flight did not show the smoother (`airwake.estimate.net_interval`);
+    bias (n, 6) the channel-bias states' smoothed mean (NaN on a channel without one):
+    the model's slow misfit per channel as the smoother split it from the wind."""
 
     t: np.ndarray
     mean: np.ndarray
@@ -151,6 +169,7 @@ class SmootherResult:
     seconds: float = 0.0
     evaluations: int = 0
     fast_std: np.ndarray | None = None
+    bias: np.ndarray | None = None
 
 
 @dataclass
@@ -195,6 +214,22 @@ def _consider_std(sens: np.ndarray, sig: np.ndarray) -> np.ndarray:
     """(n, 6) the wind's std from independent steady offsets of std `sig` (q,) through
     their sensitivities `sens` (n, 6, q): sqrt(sum_j (S_kj sigma_j)^2) per component."""
     return np.sqrt(np.einsum("kwc,c->kw", sens**2, sig**2))
+
+
+def _channel_bias(channel_bias):
+    """(channels (nb,) int, sigma (nb,), tau_s) from `channel_bias` = (sigma (6,), tau_s)
+    or None (no bias states); a channel with sigma 0 gets none."""
+    if channel_bias is None:
+        return np.zeros(0, int), np.zeros(0), 1.0
+    sigma, tau = channel_bias
+    sigma = np.asarray(sigma, dtype=float)
+    if sigma.shape != (6,) or np.any(~np.isfinite(sigma)) or np.any(sigma < 0):
+        raise ValueError(f"channel_bias: sigma must be 6 numbers >= 0, got {sigma!r}")
+    tau = float(tau)
+    if not math.isfinite(tau) or tau <= 0:
+        raise ValueError(f"channel_bias: tau_s must be > 0, got {tau!r}")
+    on = np.flatnonzero(sigma > 0)
+    return on, sigma[on], tau
 
 
 def _offset_stds(offset_std) -> np.ndarray:
@@ -484,7 +519,8 @@ class WindSmoother:
 
     def __init__(self, model, pre: Prefiltered, prior: WindPrior, noise_std=None,
                  iterations: int = ITERATIONS, relinearise: int = RELINEARISE,
-                 learn=LEARN, noise_floor=None, anchor=None) -> None:
+                 learn=LEARN, noise_floor=None, anchor=None,
+                 channel_bias=None) -> None:
         if iterations < 1:
             raise ValueError(f"iterations = {iterations!r}: must be >= 1")
         unknown = set(learn) - set(LEARN)
@@ -504,7 +540,11 @@ class WindSmoother:
         self.m = self.hid.size
         m = self.m
         self.mu, self.xi = slice(m, m + 6), slice(m + 6, m + 12)
-        self.n_state = m + 12
+        # the model's slowly varying error per channel: Gauss-Markov states after xi
+        self.bias_channels, self.bias_sigma, self.bias_tau_s = _channel_bias(channel_bias)
+        nb = self.bias_channels.size
+        self.bias = slice(m + 12, m + 12 + nb)
+        self.n_state = m + 12 + nb
         self.noise_floor = np.full(6, NOISE_FLOOR)
         if noise_floor is not None:
             floor = np.asarray(noise_floor, dtype=float)
@@ -603,6 +643,7 @@ class WindSmoother:
         env = {n: v[k] for n, v in d.env.items()}
         w = point[self.mu] + point[self.xi]
         _, z, _, jz = self._jacobian_rows(d.x[k], d.u[k], env, point[:self.m], w)
+        z[self.bias_channels] += point[self.bias]  # the channels' slow misfit
         return z, jz
 
     # -- building blocks ----------------------------------------------------------------
@@ -613,6 +654,7 @@ class WindSmoother:
         h[:, :m] = jz[:, :m]
         h[:, self.mu] = jz[:, m:]
         h[:, self.xi] = jz[:, m:]
+        h[self.bias_channels, np.arange(self.bias.start, self.bias.stop)] = 1.0
         return h
 
     def _wind_rows(self) -> np.ndarray:
@@ -651,6 +693,7 @@ class WindSmoother:
         t[m:m + 12, :] = np.eye(12)
         p = t @ prior.initial_covariance() @ t.T
         p[:m, :m] += np.eye(m) * 1e-12
+        p[self.bias, self.bias] = np.diag(self.bias_sigma**2)
         return s, 0.5 * (p + p.T)
 
     def _system(self, f0, jt, tp, s, prior: WindPrior):
@@ -666,7 +709,17 @@ class WindSmoother:
         drift = np.zeros(n)
         drift[:m] = f0 + jt[:, :m] @ ds[:m] + jt[:, m:] @ dw
         drift[self.xi] = -s[self.xi] / prior.tau_s
+        if self.bias_channels.size:
+            a[self.bias, self.bias] = -np.eye(self.bias_channels.size) / self.bias_tau_s
+            drift[self.bias] = -s[self.bias] / self.bias_tau_s
         return a, drift
+
+    def _diffusion(self, prior: WindPrior) -> np.ndarray:
+        """(N,) the continuous process noise: none on the rotor states, the wind prior's
+        on mu and xi, 2 sigma_b^2 / tau_b on each channel bias (its stationary std
+        sigma_b)."""
+        return np.concatenate([np.zeros(self.m), prior.diffusion(),
+                               2.0 * self.bias_sigma**2 / self.bias_tau_s])
 
     def _discretise(self, a, drift, qc, dt, ramp=None):
         """Phi = e^{A dt}, Q = int_0^dt e^{A r} Qc e^{A^T r} dr and the mean step
@@ -724,7 +777,7 @@ class WindSmoother:
         if online:
             lin = _Lin(np.zeros((n, n_s)), np.zeros((n, m)), np.zeros((n, m, m + 6)),
                        np.zeros((n, n_s)), np.zeros((n, 6)), np.zeros((n, 6, m + 6)))
-        qc = np.concatenate([np.zeros(m), prior.diffusion()])
+        qc = self._diffusion(prior)
         s, p = self._initial(idx[0], prior, wind0)
         r = np.diag(r_diag)
         eye = np.eye(n_s)
@@ -1009,7 +1062,24 @@ class WindSmoother:
         the bound is the wind's marginal of its RTS covariance (`_bound_augmented`).
         Offsets are common to a run; runs are taken one by one (a flight with gaps gets
         no information about the offsets across them: a bound no lower than the exact
-        one)."""
+        one). The smoother's own channel-bias states are left out: the channel error given
+        here is the misfit as it is, its slow part included."""
+        with self._without_bias():
+            return self._bound(wind, prior, noise_std, offset_std)
+
+    @contextmanager
+    def _without_bias(self):
+        """The state without the channel-bias states, for the duration."""
+        saved = (self.bias_channels, self.bias_sigma, self.bias, self.n_state)
+        self.bias_channels, self.bias_sigma = np.zeros(0, int), np.zeros(0)
+        self.bias = slice(self.m + 12, self.m + 12)
+        self.n_state = self.m + 12
+        try:
+            yield
+        finally:
+            self.bias_channels, self.bias_sigma, self.bias, self.n_state = saved
+
+    def _bound(self, wind, prior, noise_std, offset_std) -> np.ndarray:
         m, n_s = self.m, self.n_state
         d = self.pre.data
         wind = np.asarray(wind, dtype=float)
@@ -1085,7 +1155,7 @@ class WindSmoother:
         p[ar, ar] = noise.stationary_covariance()
         if n_b:
             p[b, b] = np.diag(offset_std[on] ** 2)
-        qc = np.concatenate([np.zeros(self.m), prior.diffusion()])
+        qc = self._diffusion(prior)
         pf = np.empty((n, n_a, n_a))
         pp = np.empty((n, n_a, n_a))
         phis = np.zeros((n, n_a, n_a))
@@ -1124,7 +1194,7 @@ class WindSmoother:
 
     def _result(self, passes, prior, noise_std, history, seconds) -> SmootherResult:
         n = self.pre.data.t.size
-        out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs", "xs")}
+        out = {k: np.full((n, 6), np.nan) for k in ("mean", "std", "fm", "fs", "xs", "bias")}
         c = self._wind_rows()
         for run, ps, _ in passes:
             out["mean"][run] = ps.ms @ c.T
@@ -1133,6 +1203,7 @@ class WindSmoother:
             out["fs"][run] = np.sqrt(np.maximum(np.einsum("ij,kjl,il->ki", c, ps.pf, c), 0))
             out["xs"][run] = np.sqrt(np.maximum(
                 np.einsum("kii->ki", ps.ps[:, self.xi, self.xi]), 0))
+            out["bias"][run, self.bias_channels] = ps.ms[:, self.bias]
         return SmootherResult(self.pre.data.t.copy(), out["mean"], out["std"], out["fm"],
                               out["fs"], prior, noise_std, history, seconds,
-                              self.evaluations, out["xs"])
+                              self.evaluations, out["xs"], out["bias"])

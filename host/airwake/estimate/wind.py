@@ -54,6 +54,10 @@ class WindEstimate:
 
 
 METHODS = ("smoother", "apf", "net")
+# how the smoother holds the model's steady misfit per channel (`model_error_offset`):
+# "consider", a steady offset it does not estimate, whose effect widens the intervals
+# (forces only); "states", Gauss-Markov bias states it estimates beside the wind
+MODEL_ERROR_MODES = ("consider", "states")
 # The wind is the air velocity over the ground, so the INS velocity error goes one to one
 # into v (not into w): measured on each flight against its GNSS velocity
 # (`airwake.estimate.ins_error`), or given by the user; the VN-200 datasheet's 0.05 m/s
@@ -75,7 +79,8 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   channel_scale=None, steps: int | None = None,
                   progress: bool = False, net=None, interval_model=None,
                   anchor=None, calibration: dict | None = None,
-                  rotation_from_mean_flow: bool = True) -> WindEstimate:
+                  rotation_from_mean_flow: bool = True,
+                  model_error: str = "consider") -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -103,7 +108,16 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     one `airwake calibrate` is about to write); the spec's `still_air_wind_error` joins
     the std (`still_air_wind_error` below).
     rotation_from_mean_flow (smoother): the EM sets the turbulence std of w_x and w_y from
-    the mean flow's (`airwake.estimate.smoother`); False learns it as the others."""
+    the mean flow's (`airwake.estimate.smoother`); False learns it as the others.
+    model_error (smoother): how the model's steady misfit (the spec's
+    `model_error_offset`, with accel_bias_std on the accelerometers) enters: "consider"
+    (default) keeps it out of the estimate and widens the intervals by what it does to it
+    (forces only); "states" estimates it per channel as Gauss-Markov bias states beside
+    the wind (correlation time: the block it was measured over,
+    `calibrate.residuals.OFFSET_BLOCK_S`) — right for a steady force with the mean flow
+    pinned by an anchor (an INS's accelerometer bias on a model that fits); on the
+    blade-element airframe not better than "consider" (docs/wind-estimation.md "The
+    model's slow misfit as states")."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -133,6 +147,9 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                                   f"for --method smoother, not {method}")
     if anchor is not None and method != "smoother":
         raise WindEstimationError(f"--anchor is for --method smoother, not {method}")
+    if model_error not in MODEL_ERROR_MODES:
+        raise WindEstimationError(f"--model-error {model_error!r}: use one of "
+                                  f"{list(MODEL_ERROR_MODES)}")
     if interval_model is not None and method != "net":
         raise WindEstimationError("--interval-model widens a wind net's interval: it is for "
                                   f"--method net, not {method}")
@@ -183,10 +200,11 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
         # (read before the run: a bad table costs no run)
         plain_g = _still_air_excess(model, cal, anchored=False)
         anchored_g = _still_air_excess(model, cal, anchored=True)
+        meta["model_error"] = model_error
         df, extra, seconds, smoother, result = _run_smoother(
             heli, data, cutoff, RATE_HZ if rate_hz is None else rate_hz, em_passes,
             airspeed_m_s, ins_velocity_std, progress, floor, offset, anchor,
-            rotation_from_mean_flow)
+            rotation_from_mean_flow, model_error)
         if anchor is not None:
             meta["anchor"] = str(anchor) if not hasattr(anchor, "columns") else "<table>"
         excess = anchored_g if anchor is not None else plain_g
@@ -492,7 +510,7 @@ def _anchor_at(anchor, t: np.ndarray, ins_velocity_std: float):
 
 def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_velocity_std,
                   progress, noise_floor=None, offset_std=None, anchor=None,
-                  rotation_from_mean_flow=True):
+                  rotation_from_mean_flow=True, model_error="states"):
     from airwake.estimate.errors import WindEstimationError
     from airwake.estimate.prefilter import prefilter
     from airwake.estimate.smoother import ITERATIONS, LEARN, WindSmoother
@@ -509,11 +527,19 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
     passes = ITERATIONS if em_passes is None else int(em_passes)
     if anchor is not None:
         anchor = _anchor_at(anchor, pre.data.t, ins_velocity_std)
+    channel_bias = None
+    if model_error == "states" and offset_std is not None and np.any(
+            np.asarray(offset_std, dtype=float) > 0):
+        from airwake.calibrate.residuals import OFFSET_BLOCK_S
+
+        # the steady misfit is estimated, not considered: no consider term for it below
+        channel_bias = (np.asarray(offset_std, dtype=float), OFFSET_BLOCK_S)
+        offset_std = None
     try:
         learn = LEARN if rotation_from_mean_flow else tuple(
             x for x in LEARN if x != "rotation_from_mean_flow")
         sm = WindSmoother(heli, pre, prior, iterations=passes, noise_floor=noise_floor,
-                          anchor=anchor, learn=learn)
+                          anchor=anchor, learn=learn, channel_bias=channel_bias)
     except MODEL_FAILURES as exc:
         raise WindEstimationError(f"{data.source}: {exc}") from None
     bar = Progress("wind estimate (smoother)", passes, " passes", enabled=progress)
@@ -571,8 +597,20 @@ def _run_smoother(heli, data, cutoff_hz, rate_hz, em_passes, airspeed_m_s, ins_v
         "offset_std_rms": None if offset_part is None else
         np.sqrt(np.nanmean(offset_part**2, axis=0)).tolist(),
         "anchor_offset_std": None if anchor_sigma is None else anchor_sigma.tolist(),
+        "channel_bias": None if channel_bias is None else
+        {"sigma": channel_bias[0].tolist(), "tau_s": float(channel_bias[1]),
+         # the flight's mean of each channel's estimated slow misfit (0: none there)
+         "mean": _bias_mean(res.bias, sm.bias_channels)},
     }
     return df, extra, res.seconds, sm, res
+
+
+def _bias_mean(bias: np.ndarray, channels: np.ndarray) -> list:
+    """(6,) the flight's mean of the channel-bias states (0 on a channel without one)."""
+    out = np.zeros(6)
+    if channels.size:
+        out[channels] = np.nanmean(bias[:, channels], axis=0)
+    return out.tolist()
 
 
 def _run_apf(heli, data, cutoff_hz, rate_hz, ins_velocity_std, n_particles, sigma, resampler,
