@@ -118,8 +118,17 @@ def rig_for(scenario, boards: tuple[str, ...] | None = None, *,
     rig = SilRig(boards=tuple(boards), tracker_position_ned_m=tracker)
     if "marker_mount_quat_wxyz" not in changes:
         yaw = math.radians(scenario.pilot.yaw_deg or 0.0)
+        cg = start
+        if scenario.pilot.point == "hub":
+            # the script's start is the hub's; the marker is mounted on the body, from
+            # the CG the pilot flies (`pilot.cg_script`)
+            from hil_sim.world.pilot import cg_script
+            from hil_sim.world.run import hub_offset_body_m
+
+            cg = np.asarray(cg_script(scenario.pilot, hub_offset_body_m(scenario)).start_m,
+                            dtype=float)
         changes["marker_mount_quat_wxyz"] = led_facing_mount(
-            start, yaw, np.asarray(rig.marker_position_body_m), np.asarray(tracker))
+            cg, yaw, np.asarray(rig.marker_position_body_m), np.asarray(tracker))
     return rig.replace(**changes)
 
 

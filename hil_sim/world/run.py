@@ -301,6 +301,18 @@ def _height_function(scenario: Scenario, ship: Ship | None, radius_m: float):
     return deck
 
 
+def hub_offset_body_m(scenario: Scenario) -> np.ndarray:
+    """(3,) the scenario's truth airframe's main-rotor hub from its CG, body axes (z down):
+    where a `point = "hub"` script's positions are (`pilot.cg_script`)."""
+    if scenario.helicopter.model == "blade_element":
+        from hil_sim.world.rotorcraft.flight import build_truth
+
+        return np.asarray(build_truth(scenario).heli.hub_offset_body_m, dtype=float)
+    truth = build_truth_model(scenario.helicopter.spec, scenario.helicopter.overrides,
+                              scenario.hidden)
+    return np.asarray(truth.hub_offset_body_m, dtype=float)
+
+
 def run_scenario(scenario: Scenario, seed: int | None = None, duration_s: float | None = None,
                  *, progress=None, rate_hz: float | None = None,
                  sensors: bool = True) -> SimResult:

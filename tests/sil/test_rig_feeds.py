@@ -43,6 +43,32 @@ def test_marker_mount_turns_led0_toward_the_tracker():
         assert np.allclose(axis, want / np.linalg.norm(want), atol=1e-9)
 
 
+def test_a_hub_script_aims_the_marker_from_the_cg_the_pilot_flies(tmp_path):
+    # the script's start is the hub's, 0.24 m above the blade-element airframe's CG: the
+    # marker's LED is turned toward the tracker from where the body is, not from the hub
+    import dataclasses
+
+    from hil_sim.world.run import hub_offset_body_m
+
+    sc = load_scenario("still_air_calibration")
+    hub = dataclasses.replace(sc, pilot=dataclasses.replace(sc.pilot, point="hub"))
+    off = hub_offset_body_m(hub)
+    assert off[2] < -0.1
+    rig, rig_hub = rig_for(sc), rig_for(hub)
+    assert rig_hub.tracker_position_ned_m == rig.tracker_position_ned_m
+    start = np.asarray(sc.pilot.start_m, float)
+    yaw = np.radians(sc.pilot.yaw_deg or 0.0)
+    want = led_facing_mount(start - [0.0, 0.0, off[2]], yaw,
+                            np.asarray(rig.marker_position_body_m),
+                            np.asarray(rig.tracker_position_ned_m))
+    assert np.allclose(rig_hub.marker_mount_quat_wxyz, want, atol=1e-12)
+    # a CG script's mount is aimed from its start as it was
+    assert np.allclose(rig.marker_mount_quat_wxyz, led_facing_mount(
+        start, yaw, np.asarray(rig.marker_position_body_m),
+        np.asarray(rig.tracker_position_ned_m)), atol=1e-12)
+    assert not np.allclose(rig.marker_mount_quat_wxyz, rig_hub.marker_mount_quat_wxyz)
+
+
 def test_rig_defaults_by_site_and_bad_board_sets():
     assert rig_for(load_scenario("still_air_calibration")).boards == (
         "losa", "marker", "rover", "base")
