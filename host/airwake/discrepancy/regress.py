@@ -37,12 +37,26 @@ def _stack(y, x, w):
     return ys, xs
 
 
-def _solve(g, b):
-    """Least squares from normal equations with a tiny ridge (scale-aware)."""
-    d = np.sqrt(np.maximum(np.diag(g), 1e-300))
-    gs = g / np.outer(d, d)
-    a = np.linalg.lstsq(gs + 1e-10 * np.eye(g.shape[0]), b / d, rcond=None)[0]
-    return a / d
+# a regressor keeping less than this share of its energy in a fit's rows says nothing
+# there (a candidate that acts only in the block a cross-validation fold leaves out)
+SILENT_SHARE = 1e-9
+
+
+def _solve(g, b, full_diag=None):
+    """Least squares from normal equations with a tiny ridge (scale-aware). A regressor
+    silent in these rows (its diagonal <= SILENT_SHARE of `full_diag`, its energy over the
+    whole fit; none given: exactly zero) gets coefficient 0: the rows say nothing of it
+    (solving for it anyway gives a coefficient of ~1e150 and an overflow)."""
+    dg = np.diag(g)
+    ref = dg if full_diag is None else np.asarray(full_diag, dtype=float)
+    live = (dg > 0) & (dg > SILENT_SHARE * ref)
+    a = np.zeros(g.shape[0])
+    if not live.any():
+        return a
+    d = np.sqrt(dg[live])
+    gs = g[np.ix_(live, live)] / np.outer(d, d)
+    a[live] = np.linalg.lstsq(gs + 1e-10 * np.eye(d.size), b[live] / d, rcond=None)[0] / d
+    return a
 
 
 def condition_number(x: np.ndarray) -> float:
@@ -83,7 +97,7 @@ def linear_fit(y: np.ndarray, x: np.ndarray, w: np.ndarray, blocks: list[np.ndar
         yb, xb = _stack(y[blk], x[blk], w)
         grams.append((xb.T @ xb, xb.T @ yb))
     for blk, (gb, bb) in zip(blocks, grams, strict=True):
-        ab = _solve(g - gb, b - bb)
+        ab = _solve(g - gb, b - bb, np.diag(g))
         fb = np.einsum("ncj,j->nc", x[blk], ab)
         cv0 += np.sum(y[blk] ** 2, 0)
         cv1 += np.sum((y[blk] - fb) ** 2, 0)
