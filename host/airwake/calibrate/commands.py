@@ -119,6 +119,70 @@ def add_still_air_wind_error(table: dict, model, flight) -> None:
               f"estimate's intervals will not carry it): {exc}", file=sys.stderr)
 
 
+def write_model_error(spec, flights, out) -> dict:
+    """`airwake model error`: the model's steady misfit pooled over the still-air
+    `flights` (`model_error_over`) written into a copy of `spec` at `out` as [calibration]
+    `model_error_offset`, with the flights (`model_error_offset_flights`: the wind
+    estimate then holds it as states beside the wind, `airwake.estimate.wind`), and its
+    `still_air_wind_error` re-measured on the spec's calibration flight (the first flight
+    for a spec without one) with that estimator. The noise floor (`model_error_std`) stays
+    the calibration flight's: smoother flights would lower it, and a lower floor lets the
+    misfit through as turbulence (measured: docs/wind-estimation.md). Returns the report:
+    per flight and pooled, and the spec's figures before."""
+    import tomllib
+    from pathlib import Path
+
+    from airwake.calibrate import CalibrationError, model_error_over
+    from airwake.estimate.wind import MODEL_ERROR_FLIGHTS_KEY
+    from airwake.heli import check_spec_path, load_model, save_spec, spec_calibration
+    from airwake.heli.context import MEAS_CHANNELS
+
+    out = check_spec_path(out)
+    model = load_model(spec)
+    flights = [str(f) for f in flights]
+    if len(set(flights)) != len(flights):
+        raise CalibrationError(f"model error: a flight is given twice: {flights}")
+    each: list = []
+    rms, offset = model_error_over(model, flights, per_flight=each)
+    table = dict(spec_calibration(spec) or {})
+    before = table.get("model_error_offset")
+    table["model_error_offset"] = [float(v) for v in offset]
+    table[MODEL_ERROR_FLIGHTS_KEY] = flights
+    if table.get("model_error_std") is None:  # a spec never calibrated: the flights' RMS
+        table["model_error_std"] = [float(v) for v in rms]
+    add_still_air_wind_error(table, model, table.get("flight") or flights[0])
+    head = {}
+    if isinstance(spec, str | Path) and Path(spec).is_file():
+        head = tomllib.loads(Path(spec).read_text()).get("model", {})
+    save_spec(model, out, name=head.get("name", out.stem),
+              description=head.get("description", ""), calibration=table)
+    return {"model": str(spec), "out": str(out), "channels": list(MEAS_CHANNELS),
+            "flights": {f: {"model_error_std": [float(v) for v in r],
+                            "model_error_offset": [float(v) for v in o]}
+                        for f, (r, o) in zip(flights, each, strict=True)},
+            "model_error_offset": table["model_error_offset"],
+            "pooled_rms": [float(v) for v in rms], "offset_before": before}
+
+
+def print_model_error(report: dict) -> None:
+    """The `airwake model error` table: per channel, each flight's steady misfit and the
+    pooled one the spec now carries."""
+    chans = [c.replace("acc_", "a_").split("_m_")[0].split("_rad")[0]
+             for c in report["channels"]]
+    print(f"the model's steady misfit on still air ({report['model']}), the RMS of 30 s "
+          "blocks' mean, per channel (m/s^2, rad/s^2):")
+    print(f"  {'flight':<40}" + "".join(f"{c:>8}" for c in chans))
+    for f, v in report["flights"].items():
+        name = f if len(f) <= 38 else "..." + f[-35:]
+        print(f"  {name:<40}" + "".join(f"{x:8.3f}" for x in v["model_error_offset"]))
+    print(f"  {'pooled (written)':<40}"
+          + "".join(f"{x:8.3f}" for x in report["model_error_offset"]))
+    if report["offset_before"] is not None:
+        print(f"  {'before':<40}" + "".join(f"{x:8.3f}" for x in report["offset_before"]))
+    print(f"written: {report['out']} (its wind estimates hold the steady misfit as states "
+          "beside the wind)")
+
+
 def _handle(args: argparse.Namespace) -> int:
     from airwake.calibrate import calibrate
     from airwake.estimate.wind import STILL_AIR_BIAS_KEY
