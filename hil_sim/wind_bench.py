@@ -7,10 +7,9 @@ run`, stepped), exported, with the truth world's columns put beside it for scori
 model is made as `make demo` makes it (docs/calibration.md): `airwake calibrate` of the
 blade-element `still_air_calibration` flight from Table 5.2 (24 windows), `airwake model
 diagnose` on it and `airwake model add` of the effect its verdict names (unless the fit
-makes a channel worse), then `airwake model error` of it on that flight and a 100 s
-`still_air_cruise` flight (seed 134): the steady misfit the wind estimate holds as states.
-Both are made once and kept in build/bench-cache/wind-<key> (delete it to rebuild; the
-key covers the scenario files, the truth, BENCH_VERSION and SPEC_VERSION).
+makes a channel worse). Both are made once and kept in build/bench-cache/wind-<key>
+(delete it to rebuild; the key covers the scenario files, the truth, BENCH_VERSION and
+SPEC_VERSION).
 
 The estimators run in a child process pinned to one thread (OMP/OpenBLAS/MKL/numba = 1),
 each after a warm-up that loads the compiled model kernels:
@@ -69,10 +68,7 @@ SECTION = "estimate"
 BENCH_VERSION = 3
 # what `airwake calibrate` writes into the bench model's spec (2: its still-air wind error,
 # 2026-11-28): a new one rebuilds the calibrated model and its flight, not the still-air net
-SPEC_VERSION = 3  # 3: the steady misfit pooled over a still-air cruise flight too
-# the still-air cruise flight the model's steady misfit is pooled over (`airwake model
-# error`, as `make demo` does): its own seed, not one of the net's
-CRUISE_SEED, CRUISE_S = 134, 100.0
+SPEC_VERSION = 2
 SCENARIO = "ship_airwake_b15"
 TRUTH = ("--truth", "blade_element", "--pilot", "crossover")
 SEED = 101
@@ -85,7 +81,7 @@ def _key(duration: float) -> str:
 
     h = hashlib.sha1(f"{BENCH_VERSION} {SCENARIO} {SEED} {duration} {TRUTH} "
                      f"{SPEC_VERSION}".encode())
-    for name in ("still_air_calibration", "still_air_cruise", SCENARIO):
+    for name in ("still_air_calibration", SCENARIO):
         h.update(find_scenario(name).read_bytes())
     return h.hexdigest()[:12]
 
@@ -117,12 +113,8 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
          str(base))
     from airwake.calibrate.sequence import discrepancy_step
 
-    cruise = d / "cruise.parquet"
-    _cli("sim", "table", "--scenario", "still_air_cruise", *TRUTH, "--seed", str(CRUISE_SEED),
-         "--duration", f"{CRUISE_S:g}", "--quiet", "--out", str(cruise))
     step = discrepancy_step(still, base, d / "added.toml",
-                            run=lambda *args: json.loads(_cli(*args, *_quiet(args))),
-                            still_air=[cruise])
+                            run=lambda *args: json.loads(_cli(*args, "--quiet")))
     shutil.copy(step["model"], spec)
     rec = d / "recording"
     if rec.exists():
@@ -132,11 +124,6 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
     _cli("export", str(rec), "--out", str(d / "flight.parquet"))
     _cli("sim", "truth", str(rec), "--flight", str(d / "flight.parquet"), "--out", str(flight))
     return flight, spec, time.perf_counter() - t0
-
-
-def _quiet(args) -> tuple:
-    """--quiet for the commands that take it (`model error` prints only its JSON)."""
-    return () if args[:2] == ("model", "error") else ("--quiet",)
 
 
 def _short(name: str) -> str:

@@ -199,11 +199,9 @@ def _demo(argv: list[str] | None) -> int:
     calib = _airwake("calibrate", str(still), "--model", CALIBRATION_START, "--out", str(base),
                      "--max-windows", CALIBRATION_WINDOWS, "--json", "--progress", capture=True)
     net_job = still_air_net_train(out, still, net_job)
-    # calibrate -> diagnose -> add -> the steady misfit over the still-air flights (the
-    # cruise legs show forward flight), each step the command a user types
+    # calibrate -> diagnose -> add, each step the command a user types (shown as it runs)
     step = discrepancy_step(still, base, out / "model.toml",
-                            run=lambda *a: _airwake(*a, capture=True),
-                            still_air=[out / "cruise.parquet"])
+                            run=lambda *a: _airwake(*a, capture=True))
     model = step["model"]
     if args.warm and (out / "model.toml").is_file():
         # the model with the effect the diagnosis named, kept or not: the models the demo's
@@ -411,12 +409,6 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
         added = ("<table><tr><th>channel</th><th>RMS, calibrated</th><th>RMS, with "
                  f"{html.escape(step['added'])}</th></tr>"
                  + _rows((ch, f"{b[ch]:.4f}", f"{a[ch]:.4f}") for ch in b) + "</table>")
-    model_error = ""
-    if step.get("model_error") is not None:
-        model_error = (" <b>airwake model error</b> on the calibration flight and the cruise "
-                       "legs: the model's steady misfit per channel (a_x, a_y, a_z m/s², ṗ, "
-                       "q̇, ṙ rad/s²) " + ", ".join(f"{v:.3f}" for v in step["model_error"])
-                       + ", which the wind estimate holds as states beside the wind.")
     trust = calib.get("wind_trust") or {}
     trust_rows = [(k, "yes" if v["trusted"] else "NO", v["why"]) for k, v in trust.items()]
     bias = still_air_bias_section(calib.get("still_air_wind_bias"))
@@ -467,7 +459,7 @@ fast part the smoother's own posterior says it did not see either (docs/networks
 ({len(calib.get('parameters', {}))} parameters fitted; RMS after
 {calib.get('rms_after_all', float('nan')):.4f}). <b>airwake model diagnose</b> on the same
 flight: {html.escape(step['diagnosis'])} (ranked: {html.escape(step['ranked'])}).
-{html.escape(step['why'])}.{model_error}</p>{added}
+{html.escape(step['why'])}.</p>{added}
 {bias}
 <p>Wind components it can be trusted for:</p>
 <table><tr><th>component</th><th>trusted</th><th>why</th></tr>{_rows(trust_rows)}</table>

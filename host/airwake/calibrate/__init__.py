@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from airwake.calibrate.fit import FitResult
 
 __all__ = ["CalibrationError", "FitResult", "calibrate", "load_flight", "model_error",
-           "model_error_over", "model_error_std"]
+           "model_error_std"]
 # numpy and the fit load on first use: `airwake --help` imports this package
 __getattr__, __dir__ = lazy_exports(__name__, {"FitResult": "airwake.calibrate.fit"})
 
@@ -152,45 +152,19 @@ def model_error(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 2.0,
     each block's mean residual: a body-fixed force or moment (the flight condition's model
     error, the accelerometers' turn-on bias) the wind estimator cannot tell from a steady
     wind."""
-    return model_error_over(model, [flight], cutoff_hz=cutoff_hz, window_s=window_s,
-                            warmup_s=warmup_s)
-
-
-def model_error_over(model, flights, *, cutoff_hz: float = 6.0, window_s: float = 2.0,
-                     warmup_s: float = 1.0, per_flight: list | None = None):
-    """((6,), (6,)): `model_error` pooled over several still-air flights — the RMS over
-    all their scored samples, the steady part over all their 30 s blocks. A calibration
-    flight is mostly hover; the still-air cruise legs a still-air wind net is trained on
-    show what the model misses in forward flight (on the blade-element airframe the
-    wind bench's model misses r-dot by 0.08 rad/s^2 per block on its calibration flight
-    and by 0.22 on 100 s cruise legs), which is what a ship flight flies. `per_flight`: a
-    list that gets each flight's own ((6,), (6,)), in order."""
-    import numpy as np
-
     from airwake.calibrate.residuals import FlightData, WindowedPredictor, make_windows
     from airwake.heli import load_model
 
     model = load_model(model)
-    flights = list(flights)
-    if not flights:
-        raise CalibrationError("model error: no still-air flight given")
-    sq, count, means = np.zeros(6), 0, []
-    for flight in flights:
-        data = FlightData.from_flight(model, load_flight(flight))
-        if cutoff_hz:
-            data, _ = _front_end(data, model, float(cutoff_hz), None)
-        pred = WindowedPredictor(model, data, make_windows(data, window_s, warmup_s))
-        f_sq, f_count, f_means = pred.channel_moments(model.parameter_vector()[None])
-        if not (math.isfinite(float(np.sum(f_sq))) and np.all(np.isfinite(f_means))):
-            raise CalibrationError(f"{getattr(flight, 'path', flight)}: the model's "
-                                   "prediction is not finite on this flight; no model "
-                                   "error to report")
-        sq, count = sq + f_sq[0], count + f_count
-        means.extend(f_means[:, 0])
-        if per_flight is not None:
-            per_flight.append((np.sqrt(f_sq[0] / f_count),
-                               np.sqrt(np.mean(np.square(f_means[:, 0]), axis=0))))
-    return np.sqrt(sq / count), np.sqrt(np.mean(np.square(means), axis=0))
+    data = FlightData.from_flight(model, load_flight(flight))
+    if cutoff_hz:
+        data, _ = _front_end(data, model, float(cutoff_hz), None)
+    pred = WindowedPredictor(model, data, make_windows(data, window_s, warmup_s))
+    rms, offset = (v[0] for v in pred.channel_stats(model.parameter_vector()[None]))
+    if not all(map(math.isfinite, [*rms, *offset])):
+        raise CalibrationError(f"{getattr(flight, 'path', flight)}: the model's prediction "
+                               "is not finite on this flight; no model error to report")
+    return rms, offset
 
 
 REWEIGHT_WINDOWS = 16

@@ -283,17 +283,10 @@ class WindowedPredictor:
         each window's start), the RMS over the blocks of each block's mean residual over
         its windows' scored samples — a body-fixed force or moment the model misses in
         a flight condition, a sensor's turn-on bias."""
-        sq, count, means = self.channel_moments(param_sets, block_s)
-        return np.sqrt(sq / count), np.sqrt(np.mean(np.square(means), axis=0))
-
-    def channel_moments(self, param_sets: np.ndarray, block_s: float = OFFSET_BLOCK_S):
-        """What `channel_stats` is made of, to pool over flights: (K, 6) the sum of the
-        squared residuals over the scored samples, their count, and (B, K, 6) each block's
-        mean residual."""
         z, _ = self.predict(param_sets)
         e = self.measured()[None] - z  # (K, W, L, 6)
         score = self.windows.score
-        sq = np.sum(e[:, score] ** 2, axis=1)
+        rms = np.sqrt(np.mean(e[:, score] ** 2, axis=1))
         start = self.data.t[self.windows.idx[:, 0]]
         block = np.floor((start - start.min()) / block_s).astype(int)
         means = []
@@ -301,4 +294,5 @@ class WindowedPredictor:
             sel = score & (block == b)[:, None]
             if sel.any():
                 means.append(e[:, sel].mean(axis=1))  # (K, 6)
-        return sq, int(score.sum()), np.asarray(means)
+        offset = np.sqrt(np.mean(np.square(means), axis=0))
+        return rms, offset

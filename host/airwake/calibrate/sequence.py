@@ -55,36 +55,14 @@ def candidates_text(diag: dict, k: int = 3) -> str:
                      + (" (significant)" if c["significant"] else "") for c in tested)
 
 
-def discrepancy_step(still, base, out, run=None, still_air=()) -> dict:
+def discrepancy_step(still, base, out, run=None) -> dict:
     """Diagnose the calibrated model `base` on its still-air flight `still` and add the
     effect its verdict names (none when the verdict is "calibrate", "wind" or "none"),
-    keeping `base` when the fitted effect makes a channel worse; then, with `still_air`
-    flights (the cruise legs a still-air wind net learns from), the model's steady misfit
-    pooled over `still` and them (`airwake model error`, written to `out`), which the
-    wind estimate holds as states. Returns {"model": the spec to use, "diagnosis": the
-    verdict's text, "ranked": the first candidates, "added": the effect or None, "why":
-    one line, "before"/"after": per-channel RMS of the fit when added, "model_error": the
-    pooled steady misfit or None}. `run(*args)`: runs one `airwake` command with --json and
-    returns its JSON (the demo shows the commands as a user types them); default: the
-    same calls in-process."""
-    step = _diagnose_and_add(still, base, out, run)
-    step["model_error"] = None
-    if still_air:
-        flights = [str(still), *map(str, still_air)]
-        if run is None:
-            from airwake.calibrate.commands import write_model_error
-
-            report = write_model_error(str(step["model"]), flights, str(out))
-        else:
-            report = run("model", "error", *flights, "--model", str(step["model"]),
-                         "--out", str(out), "--json")
-        step["model"] = out
-        step["model_error"] = report["model_error_offset"]
-    return step
-
-
-def _diagnose_and_add(still, base, out, run) -> dict:
-    """The diagnosis and the added effect of `discrepancy_step`."""
+    keeping `base` when the fitted effect makes a channel worse. Returns {"model": the spec
+    to use, "diagnosis": the verdict's text, "ranked": the first candidates, "added": the
+    effect or None, "why": one line, "before"/"after": per-channel RMS of the fit when
+    added}. `run(*args)`: runs one `airwake` command with --json and returns its JSON (the
+    demo shows the commands as a user types them); default: the same calls in-process."""
     if run is None:
         diag = _diagnose_here(still, base)
     else:

@@ -5,7 +5,6 @@
     airwake model add EFFECT --data FLIGHT [--model SPEC] [--wind WIND] [--plugin FILE.py]
                       [--retune PARAM ...] --out SPEC2 [--json]
     airwake model report FLIGHT [--model SPEC] [--wind WIND] --out DIR [--after SPEC2]
-    airwake model error FLIGHT [FLIGHT ...] --model SPEC --out SPEC2 [--json]
 
 Every command accepts the analysis settings (--lowpass, --skip) and the flight's wind
 (--wind: a wind table or 'truth'; `airwake.discrepancy.wind`), and prints a table, or
@@ -88,23 +87,6 @@ def register(subparsers) -> None:
     p.add_argument("--max-nfev", type=int, default=30, help="fit evaluations (default 30)")
     _settings_args(p)
     p.set_defaults(func=_add)
-
-    p = sub.add_parser("error", help="the model's steady misfit on still-air flights, into "
-                       "its spec", description="What the model misses where the wind is "
-                       "zero and that holds for tens of seconds: per channel after the wind "
-                       "estimator's front end, the RMS of 30 s blocks' mean misfit, pooled "
-                       "over the flights and written into a copy of the spec's [calibration] "
-                       "(model_error_offset, model_error_offset_flights). The wind estimate "
-                       "with that spec holds it as slowly varying states beside the wind "
-                       "(docs/wind-estimation.md). Give the calibration flight and still-air "
-                       "cruise legs: a calibration flight is mostly hover, and a model "
-                       "misses more in forward flight.")
-    p.add_argument("flights", nargs="+", metavar="FLIGHT", help="still-air flight tables")
-    p.add_argument("--model", required=True, metavar="SPEC", help="the model spec")
-    p.add_argument("--out", required=True, metavar="SPEC2",
-                   help="the spec to write (.toml; may be SPEC itself)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=_error)
 
     p = sub.add_parser("report", help="self-contained HTML report with figures",
                        description="Run compare, where, diagnose and add (the top candidate, "
@@ -300,17 +282,6 @@ def _add(args) -> int:
               + " worse: as fitted it does not describe this flight"
               + (f" ({', '.join(bound)} at a bound)" if bound else "")
               + f"; {res.out} is written, keep the model you started from", file=sys.stderr)
-    return 0
-
-
-def _error(args) -> int:
-    from airwake.calibrate.commands import print_model_error, write_model_error
-
-    report = write_model_error(args.model, args.flights, args.out)
-    if args.json:
-        _dump(report)
-    else:
-        print_model_error(report)
     return 0
 
 

@@ -87,9 +87,7 @@ def _handle(args: argparse.Namespace) -> int:
     else:
         report.update(prior=est.metadata["prior"], noise_std=est.metadata["noise_std"],
                       anchor=est.metadata.get("anchor"),
-                      still_air_wind_error=est.metadata.get("still_air_wind_error"),
-                      model_error=est.metadata.get("model_error"),
-                      channel_bias=est.metadata.get("channel_bias"))
+                      still_air_wind_error=est.metadata.get("still_air_wind_error"))
     report["calibration_envelope"] = est.metadata.get("calibration_envelope")
     report["ins_velocity_std_m_s"] = est.metadata["ins_velocity_std_m_s"]
     report["ins_velocity_std_source"] = est.metadata["ins_velocity_std_source"]
@@ -231,13 +229,12 @@ def register(subparsers) -> None:
                    "sigma per axis (m/s^2; its data sheet): a steady force the estimate "
                    "cannot tell from a steady wind, added to the model's own steady misfit "
                    "in the intervals (default: none given, only the model's)")
-    p.add_argument("--model-error", choices=("consider", "states"), default=None,
+    p.add_argument("--model-error", choices=("consider", "states"), default="consider",
                    help="smoother: the model's steady misfit per channel (its spec's "
-                   "model_error_offset) estimated as slowly varying bias states beside the "
-                   "wind (states: the default for a spec whose offsets `airwake model "
-                   "error` pooled over still-air flights), or kept out of the estimate and "
-                   "its effect added to the intervals (consider, forces only: the default "
-                   "otherwise; docs/wind-estimation.md)")
+                   "model_error_offset) kept out of the estimate and its effect added to the "
+                   "intervals (consider, forces only; default), or estimated as slowly "
+                   "varying bias states beside the wind (states: best with --anchor, which "
+                   "pins the mean flow; docs/wind-estimation.md)")
     p.add_argument("--particles", type=int, default=2000, help="apf: particles (2000)")
     p.add_argument("--seed", type=int, default=0, help="apf: random seed (0)")
     p.add_argument("--sigma", type=float, default=0.5,

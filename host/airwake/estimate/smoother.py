@@ -25,11 +25,10 @@ the flight condition and so holds for tens of seconds (the still-air flight's
 reads such a misfit as a steady wind, with the confidence of white noise averaged over
 the flight (docs/calibration.md "six channels, six unknowns"); with them a steady misfit
 and a steady wind share the channel by their prior stds, and the interval says so. The
-split is only as good as sigma_b: the wind estimate uses them by default for a spec whose
-offsets were pooled over still-air flights with forward flight in them (`airwake model
-error`), where on the blade-element airframe they take the plain smoother's v_x bias from
-~1 m/s to ~0.2 and the anchored w_y's by a quarter (docs/wind-estimation.md "The model's
-slow misfit as states").
+wind estimate uses them on request (`--model-error states`): with an anchor they find a
+steady force exactly where the model fits; on the blade-element airframe the split by
+prior stds is not better than the considered offsets (docs/wind-estimation.md "The
+model's slow misfit as states").
 
 on the front end's low-passed, decimated samples (`airwake.estimate.prefilter`).
 

@@ -58,10 +58,6 @@ METHODS = ("smoother", "apf", "net")
 # "consider", a steady offset it does not estimate, whose effect widens the intervals
 # (forces only); "states", Gauss-Markov bias states it estimates beside the wind
 MODEL_ERROR_MODES = ("consider", "states")
-# [calibration] key of `airwake model error`: the still-air flights the spec's
-# model_error_offset was pooled over (calibration flight and cruise legs); with it the
-# default model_error is "states"
-MODEL_ERROR_FLIGHTS_KEY = "model_error_offset_flights"
 # The wind is the air velocity over the ground, so the INS velocity error goes one to one
 # into v (not into w): measured on each flight against its GNSS velocity
 # (`airwake.estimate.ins_error`), or given by the user; the VN-200 datasheet's 0.05 m/s
@@ -84,7 +80,7 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                   progress: bool = False, net=None, interval_model=None,
                   anchor=None, calibration: dict | None = None,
                   rotation_from_mean_flow: bool = True,
-                  model_error: str | None = None) -> WindEstimate:
+                  model_error: str = "consider") -> WindEstimate:
     """Estimate the eq 5.3 wind over a flight table (path, FlightTable or DataFrame).
 
     method "smoother" (default): the iterated EKF/RTS smoother with the Gauss-Markov wind
@@ -114,14 +110,14 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     rotation_from_mean_flow (smoother): the EM sets the turbulence std of w_x and w_y from
     the mean flow's (`airwake.estimate.smoother`); False learns it as the others.
     model_error (smoother): how the model's steady misfit (the spec's
-    `model_error_offset`, with accel_bias_std on the accelerometers) enters: "states"
-    estimates it per channel as Gauss-Markov bias states beside the wind (correlation
-    time: the block it was measured over, `calibrate.residuals.OFFSET_BLOCK_S`);
-    "consider" keeps it out of the estimate and widens the intervals by what it does to
-    it (forces only). None (default): `default_model_error` — "states" when the spec's
-    offsets were pooled over still-air flights with cruise legs (`airwake model error`),
-    "consider" for the calibration flight's alone, which understates them in forward
-    flight (docs/wind-estimation.md "The model's slow misfit as states")."""
+    `model_error_offset`, with accel_bias_std on the accelerometers) enters: "consider"
+    (default) keeps it out of the estimate and widens the intervals by what it does to it
+    (forces only); "states" estimates it per channel as Gauss-Markov bias states beside
+    the wind (correlation time: the block it was measured over,
+    `calibrate.residuals.OFFSET_BLOCK_S`) — right for a steady force with the mean flow
+    pinned by an anchor (an INS's accelerometer bias on a model that fits); on the
+    blade-element airframe not better than "consider" (docs/wind-estimation.md "The
+    model's slow misfit as states")."""
     from airwake.calibrate import CalibrationError, load_flight
     from airwake.calibrate.residuals import FlightData
     from airwake.estimate.errors import WindEstimationError
@@ -151,8 +147,6 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
                                   f"for --method smoother, not {method}")
     if anchor is not None and method != "smoother":
         raise WindEstimationError(f"--anchor is for --method smoother, not {method}")
-    if model_error is None:
-        model_error = default_model_error(model, calibration)
     if model_error not in MODEL_ERROR_MODES:
         raise WindEstimationError(f"--model-error {model_error!r}: use one of "
                                   f"{list(MODEL_ERROR_MODES)}")
@@ -236,17 +230,6 @@ def estimate_wind(flight, model="table52", method: str = "smoother", *,
     meta["seconds"] = seconds
     meta["realtime_factor"] = span / seconds if seconds > 0 else 0.0
     return WindEstimate(df, meta, seconds, smoother, result)
-
-
-def default_model_error(spec, calibration: dict | None = None) -> str:
-    """The smoother's default `model_error`: "states" for a spec whose steady misfit was
-    pooled over still-air flights (`airwake model error`, [calibration]
-    `model_error_offset_flights`), "consider" for one measured on its calibration flight
-    alone (mostly hover: it understates the misfit in forward flight)."""
-    from airwake.heli import spec_calibration
-
-    cal = (spec_calibration(spec) if calibration is None else calibration) or {}
-    return "states" if cal.get(MODEL_ERROR_FLIGHTS_KEY) else "consider"
 
 
 def model_error_floor(spec, key: str = "model_error_std",
