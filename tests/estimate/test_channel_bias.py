@@ -119,3 +119,15 @@ def test_zero_sigma_adds_no_state_and_the_bound_ignores_the_states(constant_wind
     for bad, match in bad_inputs:
         with pytest.raises(ValueError, match=match):
             WindSmoother(heli, pre, prior, channel_bias=bad)
+
+
+def test_the_ins_accelerometer_bias_becomes_a_state_on_each_accelerometer(flights):
+    # a user who knows the INS's residual bias from its data sheet gives it; with states it
+    # is estimated on each accelerometer channel (joined to the model's own offsets)
+    clean, _ = flights
+    est = estimate_wind(clean, "table52", em_passes=1, ins_velocity_std=0.0,
+                        accel_bias_std=0.01, model_error="states",
+                        calibration={"model_error_offset": [0.0, 0.02, 0.0, 0.0, 0.0, 0.0]})
+    sigma = est.metadata["channel_bias"]["sigma"]
+    assert sigma == pytest.approx([0.01, np.hypot(0.02, 0.01), 0.01, 0.0, 0.0, 0.0])
+    assert est.metadata["offset_std"] is None  # estimated, so not considered as well
