@@ -94,14 +94,15 @@ def still_air_net(task, inputs: dict, out: Path):
 
     flights = {**task.args["flights"],
                **{r: p for r, p in inputs.items() if r.startswith("flight ")}}
-    paths = [flights[r] for r in sorted(flights, key=lambda r: int(r.split()[1]))]
+    roles = sorted(flights, key=lambda r: int(r.split()[1]))  # "flight 0", "flight 1", ...
+    paths = [flights[r] for r in roles]
     net = train_wind_net(paths, still_air=True, **task.args["options"])
     save_net(net, out / "still_air_net.pt")
     card = net.card
     rms = {o: card["validation_rms"][o]["net"] for o in MEAN_FLOW}  # it reads no rotation
     names = {r: Path(p).name for r, p in task.args["flights"].items()}
-    return ({"flights": [names.get(r, f"{r} (exported)") for r in sorted(
-                 flights, key=lambda r: int(r.split()[1]))], "validation_rms": rms,
+    return ({"flights": [names.get(r, f"{r} (exported)") for r in roles],
+             "validation_rms": rms,
              "training_rows": card["training_rows"]},
             {"net": "still_air_net.pt"})
 

@@ -541,10 +541,8 @@ class WindSmoother:
         m = self.m
         self.mu, self.xi = slice(m, m + 6), slice(m + 6, m + 12)
         # the model's slowly varying error per channel: Gauss-Markov states after xi
-        self.bias_channels, self.bias_sigma, self.bias_tau_s = _channel_bias(channel_bias)
-        nb = self.bias_channels.size
-        self.bias = slice(m + 12, m + 12 + nb)
-        self.n_state = m + 12 + nb
+        channels, sigma, self.bias_tau_s = _channel_bias(channel_bias)
+        self._set_bias(channels, sigma)
         self.noise_floor = np.full(6, NOISE_FLOOR)
         if noise_floor is not None:
             floor = np.asarray(noise_floor, dtype=float)
@@ -654,7 +652,7 @@ class WindSmoother:
         h[:, :m] = jz[:, :m]
         h[:, self.mu] = jz[:, m:]
         h[:, self.xi] = jz[:, m:]
-        h[self.bias_channels, np.arange(self.bias.start, self.bias.stop)] = 1.0
+        h[self.bias_channels, self._bias_cols] = 1.0
         return h
 
     def _wind_rows(self) -> np.ndarray:
@@ -710,7 +708,7 @@ class WindSmoother:
         drift[:m] = f0 + jt[:, :m] @ ds[:m] + jt[:, m:] @ dw
         drift[self.xi] = -s[self.xi] / prior.tau_s
         if self.bias_channels.size:
-            a[self.bias, self.bias] = -np.eye(self.bias_channels.size) / self.bias_tau_s
+            a[self._bias_cols, self._bias_cols] = -1.0 / self.bias_tau_s  # the diagonal
             drift[self.bias] = -s[self.bias] / self.bias_tau_s
         return a, drift
 
@@ -1070,14 +1068,21 @@ class WindSmoother:
     @contextmanager
     def _without_bias(self):
         """The state without the channel-bias states, for the duration."""
-        saved = (self.bias_channels, self.bias_sigma, self.bias, self.n_state)
-        self.bias_channels, self.bias_sigma = np.zeros(0, int), np.zeros(0)
-        self.bias = slice(self.m + 12, self.m + 12)
-        self.n_state = self.m + 12
+        saved = (self.bias_channels, self.bias_sigma)
+        self._set_bias(np.zeros(0, int), np.zeros(0))
         try:
             yield
         finally:
-            self.bias_channels, self.bias_sigma, self.bias, self.n_state = saved
+            self._set_bias(*saved)
+
+    def _set_bias(self, channels: np.ndarray, sigma: np.ndarray) -> None:
+        """The channel-bias states (after xi) and what follows from them: their slice and
+        column indexes, the state's size."""
+        self.bias_channels, self.bias_sigma = channels, sigma
+        start = self.m + 12
+        self._bias_cols = np.arange(start, start + channels.size)
+        self.bias = slice(start, start + channels.size)
+        self.n_state = start + channels.size
 
     def _bound(self, wind, prior, noise_std, offset_std) -> np.ndarray:
         m, n_s = self.m, self.n_state
