@@ -19,7 +19,7 @@ OFF = {
     "rotor_droop": {"tachometer_gain": 0.0}, "dynamic_inflow": {},
     "wake_recirculation": {"inflow_increase": 0.0}, "accel_bias": {},
     "accel_misalignment": {}, "cg_offset": {}, "fuselage_drag_error": {},
-    "advance_cyclic": {},
+    "advance_cyclic": {}, "advance_torque": {},
 }
 
 
@@ -160,6 +160,34 @@ def test_advance_cyclic_adds_blade_cyclic_linear_in_the_advance_ratio():
     np.testing.assert_allclose(np.ravel(c1.theta_0), np.ravel(c0.theta_0), atol=0)
 
 
+def test_advance_torque_is_a_yaw_couple_in_the_advance_ratio_squared():
+    # dM_z = -s k_q |Q| (mu_x^2 + mu_y^2) / (C_T / 2): a couple about z, no force, no roll
+    # or pitch moment, the rotor's own states and torque unchanged; the same in forward
+    # and backward flight (squared)
+    k_q = 0.3
+    model = BASE + effect_with("advance_torque", {"k_q": k_q})
+    x, u, env = _rows(model)
+    c0 = BASE.evaluate(x[:, :BASE.n_states], u, None, env)
+    c1 = model.evaluate(x, u, None, env)
+    v = np.asarray(c0.hub_air_velocity_rotor_m_s)
+    mu2 = np.sum(v[:, :2] ** 2, 1) / np.ravel(c0.tip_speed_m_s) ** 2
+    assert np.ptp(mu2) > 1e-5
+    sense = float(np.ravel(c0.rotor_sense)[0])
+    want = -sense * k_q * np.abs(np.ravel(c0.rotor_torque_nm)) * mu2 / (
+        0.5 * np.ravel(c0.thrust_coeff))
+    m0, m1 = np.asarray(c0.moment_nm), np.asarray(c1.moment_nm)
+    np.testing.assert_allclose(m1[:, 2] - m0[:, 2], want, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(m1[:, :2], m0[:, :2], atol=1e-12)
+    np.testing.assert_allclose(np.asarray(c1.force_n), np.asarray(c0.force_n), atol=1e-12)
+    np.testing.assert_allclose(np.ravel(c1.rotor_torque_nm), np.ravel(c0.rotor_torque_nm),
+                               atol=0)
+    assert np.all(np.abs(want) > 0)
+    # the measured yaw acceleration moves, the specific forces do not
+    z0, z1 = np.asarray(c0.meas), np.asarray(c1.meas)
+    np.testing.assert_allclose(z1[:, :3], z0[:, :3], atol=1e-12)
+    assert np.all(np.abs(z1[:, 5] - z0[:, 5]) > 1e-6)
+
+
 def test_an_effect_that_adds_to_the_flybar_mixer_must_follow_the_flybar():
     # placed before the flybar its increment would be overwritten by the mixer: refused
     from airwake.heli.model import HeliModel
@@ -182,12 +210,13 @@ class _Columns:
         return self.cols[name]
 
 
-def test_advance_cyclic_is_untestable_without_airspeed_across_the_disc():
-    # its signature is proportional to the in-plane air velocity: a hover flight cannot
-    # show it, the same hover in a known 3 m/s wind can
+@pytest.mark.parametrize("name", ["advance_cyclic", "advance_torque"])
+def test_advance_effects_are_untestable_without_airspeed_across_the_disc(name):
+    # their signatures grow with the in-plane air velocity: a hover flight cannot show
+    # them, the same hover in a known 3 m/s wind can
     from airwake.discrepancy.candidates import candidate, flight_can_test
 
-    cand = candidate("advance_cyclic")
+    cand = candidate(name)
     n = 1000
     rng = np.random.default_rng(1)
     hover = _Columns(vel_u_m_s=rng.normal(0, 0.3, n), vel_v_m_s=rng.normal(0, 0.3, n))

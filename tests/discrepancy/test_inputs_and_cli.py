@@ -196,3 +196,33 @@ def test_an_added_effect_writes_the_model_error_it_leaves_and_names_the_flight(
         assert v.shape == (6,) and np.all(np.isfinite(v)) and np.all(v >= 0), key
     assert np.all(np.asarray(table["model_error_offset"]) <= np.asarray(
         table["model_error_std"]) * 1.5)
+
+
+def test_the_misfit_can_be_measured_on_another_still_air_flight(lever, lever_path,
+                                                                tmp_path):
+    # `model add --misfit-on STILL`: the effect is fitted on --data, the spec's misfit
+    # (the wind estimator's noise floor and offsets) is the new model's on STILL
+    from airwake.calibrate import model_error
+    from airwake.heli import load_model, spec_calibration
+
+    half = tmp_path / "first_half.parquet"
+    write_flight_table(lever.df.iloc[: len(lever.df) // 2].reset_index(drop=True), half,
+                       lever.metadata)
+    out = tmp_path / "with_lever.toml"
+    main(["model", "add", "imu_lever_arm", "--data", str(lever_path), "--model",
+          str(TRUTH_SPEC), "--out", str(out), "--max-nfev", "3", "--misfit-on", str(half),
+          "--json", "--quiet"])
+    table = spec_calibration(out)
+    assert table["model_error_flight"] == str(half)
+    rms_half, off_half = model_error(load_model(str(out)), half)
+    rms_full, _ = model_error(load_model(str(out)), lever_path)
+    np.testing.assert_allclose(table["model_error_std"], rms_half, rtol=1e-12)
+    np.testing.assert_allclose(table["model_error_offset"], off_half, rtol=1e-12)
+    assert not np.allclose(rms_half, rms_full, rtol=1e-6)
+
+
+def test_a_missing_misfit_flight_is_named_before_the_fit(lever_path, tmp_path):
+    with pytest.raises(DiscrepancyError, match=r"misfit flight .*nope.parquet"):
+        add_effect(str(TRUTH_SPEC), "imu_lever_arm", lever_path, out=tmp_path / "x.toml",
+                   misfit_on=tmp_path / "nope.parquet")
+    assert not (tmp_path / "x.toml").exists()

@@ -91,7 +91,7 @@ def _register_plugin(plugin) -> list[str]:
 
 
 def _calibration_after(start_spec, new_model, effect: str, flight, wind,
-                       flight_name: str) -> dict:
+                       flight_name: str, misfit_flight=None) -> dict:
     """The new spec's [calibration] table: the start spec's, with the effects added since
     and `model_error_std` / `model_error_offset` / `still_air_wind_error` re-measured for
     the new model on the still-air flight it was fitted on (what the wind estimator takes
@@ -101,7 +101,9 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     (it can only be larger), and so is its still-air wind error, which was measured for
     the model before the effect (the calibration flight is not at hand here; an effect
     that lowers the misfit lowers it, so it errs wide); or none is written.
-    `flight_name`: the flight as the report names it."""
+    `flight_name`: the flight as the report names it. `misfit_flight`: a still-air flight
+    to re-measure them on instead (an effect fitted on steady legs, a floor for flights
+    that manoeuvre as the calibration flight does)."""
     from airwake.calibrate import CalibrationError, model_error
     from airwake.calibrate.commands import add_still_air_wind_error
     from airwake.estimate.wind import STILL_AIR_BIAS_KEY
@@ -111,30 +113,38 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     table["added_effects"] = [*table.get("added_effects", []), effect]
     # which channel made the old model's still-air wind error says nothing of the new one's
     table.pop(STILL_AIR_BIAS_KEY, None)
-    if wind is None and not isinstance(flight, np.ndarray):
-        try:
-            rms, offset = model_error(new_model, flight)
-            table["model_error_std"] = [float(v) for v in rms]
-            table["model_error_offset"] = [float(v) for v in offset]
-            table["model_error_flight"] = flight_name
-        except CalibrationError as exc:
-            raise DiscrepancyError(f"the model with {effect}: {exc}") from None
-        add_still_air_wind_error(table, new_model, flight)
+    if misfit_flight is not None:
+        flight, flight_name = misfit_flight, str(misfit_flight)
+    elif wind is not None or isinstance(flight, np.ndarray):
+        return table
+    try:
+        rms, offset = model_error(new_model, flight)
+        table["model_error_std"] = [float(v) for v in rms]
+        table["model_error_offset"] = [float(v) for v in offset]
+        table["model_error_flight"] = flight_name
+    except CalibrationError as exc:
+        raise DiscrepancyError(f"the model with {effect}: {exc}") from None
+    add_still_air_wind_error(table, new_model, flight)
     return table
 
 
 def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                settings: AnalysisSettings | None = None, analysis: Analysis | None = None,
-               max_nfev: int = 30, name: str = "", progress=None, wind=None) -> AddResult:
+               max_nfev: int = 30, name: str = "", progress=None, wind=None,
+               misfit_on=None) -> AddResult:
     """Enable `effect`, fit it (and `retune`) on `flight`, write `out` (module docstring).
     `wind`: the flight's known wind as the model's input: (T, 6), "truth" or a wind table's
-    path (`airwake.discrepancy.wind`)."""
+    path (`airwake.discrepancy.wind`). `misfit_on`: the still-air flight the written
+    spec's misfit (`model_error_std` / `_offset`, the still-air wind error) is measured
+    on, when not `flight` (`_calibration_after`)."""
     from airwake.discrepancy.wind import ADVICE, WIND_CANDIDATE
     from airwake.heli.effects.base import EffectError, effect_class
 
     if effect == WIND_CANDIDATE:
         raise DiscrepancyError(f"{WIND_CANDIDATE} is not a model effect: the wind is an input "
                                f"of the model, not part of it; {ADVICE}")
+    if misfit_on is not None and not Path(str(misfit_on)).is_file():
+        raise DiscrepancyError(f"misfit flight {misfit_on}: no such flight table")
     settings = settings or AnalysisSettings()
     start_spec = model
     model = load_model(model)
@@ -191,6 +201,7 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                             description=f"{', '.join(model.effect_names)} + "
                             f"{effect} fitted on {an.flight.name}",
                             calibration=_calibration_after(start_spec, fr.model, effect,
-                                                           flight, wind, an.flight.name))
+                                                           flight, wind, an.flight.name,
+                                                           misfit_on))
     return AddResult(effect, fr.model, fr, before, after, written, None if plugin is None
                      else str(plugin))

@@ -132,6 +132,14 @@ CANDIDATES: tuple[Candidate, ...] = (
         manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
                   "(the cyclic trim changes with the airspeed across the disc)",
     ),
+    Candidate(
+        "advance_torque", "rotor torque vs airspeed",
+        screen={"k_q": 0.1},
+        fit=("k_q",),
+        manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
+                  "(the torque falls with the airspeed squared in every direction, a tail "
+                  "or fin error changes sign with the sideslip)",
+    ),
 )
 
 
@@ -149,7 +157,8 @@ def effect_with(name: str, values: dict):
     return effect_class(name)(**values)
 
 
-MIN_ADVANCE_AIRSPEED_M_S = 1.5  # advance_cyclic: in-plane airspeed that shows its signature
+# advance_cyclic / advance_torque: the in-plane airspeed that shows their signature
+MIN_ADVANCE_AIRSPEED_M_S = 1.5
 MIN_ADVANCE_FRACTION = 0.02  # ... on at least this share of the samples
 
 
@@ -174,7 +183,7 @@ def flight_can_test(cand: Candidate, flight, model, wind=None) -> str | None:
         low = np.isfinite(z) & (z < 3.0 * radius)
         if low.sum() < 0.02 * z.size:
             return "the flight never comes within 3 rotor radii of the ground"
-    if cand.name == "advance_cyclic":
+    if cand.name in ("advance_cyclic", "advance_torque"):
         fast = np.hypot(*air_velocity_uv(flight, wind)) > MIN_ADVANCE_AIRSPEED_M_S
         if np.mean(fast) < MIN_ADVANCE_FRACTION:
             return (f"the flight never flies faster than {MIN_ADVANCE_AIRSPEED_M_S} m/s "

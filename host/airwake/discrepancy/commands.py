@@ -85,6 +85,11 @@ def register(subparsers) -> None:
                    help="also refit these model parameters (names or globs: 'fuselage.*')")
     p.add_argument("--out", required=True, metavar="SPEC2", help="new model spec (.toml)")
     p.add_argument("--max-nfev", type=int, default=30, help="fit evaluations (default 30)")
+    p.add_argument("--misfit-on", metavar="STILL", dest="misfit_on",
+                   help="measure the new model's misfit (the wind estimator's channel "
+                   "noise floor and offsets, [calibration] model_error_*) on this still-air "
+                   "flight instead of --data: the calibration flight, when the effect is "
+                   "fitted on steady legs that manoeuvre less than a wind flight")
     _settings_args(p)
     p.set_defaults(func=_add)
 
@@ -265,7 +270,7 @@ def _add(args) -> int:
     prog = _progress(args, f"fitting {args.effect}", args.max_nfev)
     res = add_effect(args.model, args.effect, args.data, plugin=args.plugin,
                      retune=args.retune, out=args.out, settings=st, max_nfev=args.max_nfev,
-                     progress=prog, wind=args.wind)
+                     progress=prog, wind=args.wind, misfit_on=args.misfit_on)
     j = res.to_json()
     if args.json:
         _dump(j)

@@ -172,8 +172,18 @@ def _advance(an, res):
             "the rotor's blow-back / inflow roll differ from the model's")
 
 
+def _torque(an, res):
+    from airwake.discrepancy.candidates import air_velocity_uv
+
+    u, v = air_velocity_uv(an.flight, an.wind)
+    c = _corr(an.residual_band[:, 5], an.band(u * u + v * v), an.mask)
+    return (f"yaw residual follows the airspeed squared (corr {c:+.2f}): the rotor torque "
+            f"falls with airspeed by k_q = {res.params.get('k_q', 0):+.2f} of itself at the "
+            "hover induced velocity beyond the model's")
+
+
 _REASONS = {
-    "advance_cyclic": _advance,
+    "advance_cyclic": _advance, "advance_torque": _torque,
     "ground_effect": _ground_effect, "imu_lever_arm": _lever, "servo_lag": _servo,
     "rotor_droop": _droop, "dynamic_inflow": _inflow, "wake_recirculation": _recirc,
     "accel_bias": _bias, "accel_misalignment": _misalign, "cg_offset": _cg,

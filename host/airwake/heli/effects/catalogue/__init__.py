@@ -13,6 +13,7 @@ spec can name them and `airwake model add NAME` can fit them.
     cg_offset            measurement   CG position and mass error
     fuselage_drag_error  forces        extra drag areas at a centre of pressure
     advance_cyclic       blade_pitch   cyclic trim linear in the in-plane advance ratio
+    advance_torque       forces        rotor torque in the advance ratio squared (a yaw couple)
 
 Each effect is "off" at its documented parameter values (or when absent); the
 discrepancy workflow (`airwake model diagnose`) knows how to screen and fit each.
@@ -21,6 +22,7 @@ discrepancy workflow (`airwake model diagnose`) knows how to screen and fit each
 from airwake.heli.effects.catalogue.accel_bias import AccelBias
 from airwake.heli.effects.catalogue.accel_misalignment import AccelMisalignment
 from airwake.heli.effects.catalogue.advance_cyclic import AdvanceCyclic
+from airwake.heli.effects.catalogue.advance_torque import AdvanceTorque
 from airwake.heli.effects.catalogue.cg_offset import CgOffset
 from airwake.heli.effects.catalogue.dynamic_inflow import DynamicInflow
 from airwake.heli.effects.catalogue.fuselage_drag_error import FuselageDragError
@@ -33,10 +35,12 @@ from airwake.heli.effects.catalogue.wake_recirculation import WakeRecirculation
 CATALOGUE_EFFECTS = (
     GroundEffect, ImuLeverArm, ServoLag, RotorDroop, DynamicInflow, WakeRecirculation,
     AccelBias, AccelMisalignment, CgOffset, FuselageDragError, AdvanceCyclic,
+    AdvanceTorque,
 )
 
 __all__ = [
-    "CATALOGUE_EFFECTS", "AccelBias", "AccelMisalignment", "AdvanceCyclic", "CgOffset",
+    "CATALOGUE_EFFECTS", "AccelBias", "AccelMisalignment", "AdvanceCyclic", "AdvanceTorque",
+    "CgOffset",
     "DynamicInflow", "FuselageDragError", "GroundEffect", "ImuLeverArm", "RotorDroop", "ServoLag",
     "WakeRecirculation",
 ]
