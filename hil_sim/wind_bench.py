@@ -7,7 +7,9 @@ run`, stepped), exported, with the truth world's columns put beside it for scori
 model is made as `make demo` makes it (docs/calibration.md): `airwake calibrate` of the
 blade-element `still_air_calibration` flight from Table 5.2 (24 windows), `airwake model
 diagnose` on it and `airwake model add` of the effect its verdict names (unless the fit
-makes a channel worse). Both are made once and kept in build/bench-cache/wind-<key>
+makes a channel worse), then the same on 100 s of `still_air_cruise` (the steady step,
+its misfit measured on the calibration flight; both steps in sequence.json). Both are
+made once and kept in build/bench-cache/wind-<key>
 (delete it to rebuild; the key covers the scenario files, the truth, BENCH_VERSION and
 SPEC_VERSION).
 
@@ -67,8 +69,12 @@ from pathlib import Path
 SECTION = "estimate"
 BENCH_VERSION = 3
 # what `airwake calibrate` writes into the bench model's spec (2: its still-air wind error,
-# 2026-11-28): a new one rebuilds the calibrated model and its flight, not the still-air net
-SPEC_VERSION = 2
+# 2026-11-28; 3: the sequence's steady step on a cruise flight, 2026-11-29): a new one
+# rebuilds the calibrated model and its flight, not the still-air net
+SPEC_VERSION = 3
+# the steady step's cruise flight: the scenario's first two legs (out and back at 3.5 m/s),
+# as `make demo` flies them
+CRUISE_S = 100.0
 SCENARIO = "ship_airwake_b15"
 TRUTH = ("--truth", "blade_element", "--pilot", "crossover")
 SEED = 101
@@ -81,7 +87,7 @@ def _key(duration: float) -> str:
 
     h = hashlib.sha1(f"{BENCH_VERSION} {SCENARIO} {SEED} {duration} {TRUTH} "
                      f"{SPEC_VERSION}".encode())
-    for name in ("still_air_calibration", SCENARIO):
+    for name in ("still_air_calibration", "still_air_cruise", SCENARIO):
         h.update(find_scenario(name).read_bytes())
     return h.hexdigest()[:12]
 
@@ -111,11 +117,19 @@ def prepare(quick: bool) -> tuple[Path, Path, float]:
          "--out", str(still))
     _cli("calibrate", str(still), "--model", "table52", "--max-windows", "24", "--out",
          str(base))
-    from airwake.calibrate.sequence import discrepancy_step
+    from airwake.calibrate.sequence import discrepancy_step, steady_step
 
-    step = discrepancy_step(still, base, d / "added.toml",
-                            run=lambda *args: json.loads(_cli(*args, "--quiet")))
-    shutil.copy(step["model"], spec)
+    def run(*args):
+        return json.loads(_cli(*args, "--quiet"))
+
+    step = discrepancy_step(still, base, d / "added.toml", run=run)
+    cruise = d / "cruise.parquet"
+    _cli("sim", "table", "--scenario", "still_air_cruise", *TRUTH, "--duration",
+         f"{CRUISE_S:g}", "--quiet", "--out", str(cruise))
+    steady = steady_step(cruise, step["model"], d / "steady.toml", still, run=run)
+    (d / "sequence.json").write_text(json.dumps({"still_air": step, "steady": steady},
+                                                indent=1, default=str))
+    shutil.copy(steady["model"], spec)
     rec = d / "recording"
     if rec.exists():
         shutil.rmtree(rec)

@@ -14,7 +14,9 @@ own effect model instead, full-state pilot: "our own model", for comparison only
    `airwake calibrate` from the reference's Table 5.2 (the published calibration of this
    airframe class) on the parameters the flight identifies; `airwake model diagnose` on
    the same flight, and `airwake model add` of the effect its verdict names, when the fit
-   makes no channel worse. Its report says which wind components the model can be
+   makes no channel worse; then the same on the still-air cruise legs of step 6 (the
+   steady step: the effect fitted there, its misfit measured on the calibration flight,
+   `model add --misfit-on`). Its report says which wind components the model can be
    trusted for.
 1. `airwake sim run`: the truth world flies `ship_airwake_b0` (lateral sweeps behind the
    hangar), the native rover and base firmware read its VN200, Piksi, RC and rotor
@@ -56,7 +58,7 @@ import sys
 import time
 from pathlib import Path
 
-from airwake.calibrate.sequence import REFINE, candidates_text, discrepancy_step
+from airwake.calibrate.sequence import REFINE, candidates_text, discrepancy_step, steady_step
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 CALIBRATION_START = "table52"
@@ -202,11 +204,16 @@ def _demo(argv: list[str] | None) -> int:
     # calibrate -> diagnose -> add, each step the command a user types (shown as it runs)
     step = discrepancy_step(still, base, out / "model.toml",
                             run=lambda *a: _airwake(*a, capture=True))
-    model = step["model"]
-    if args.warm and (out / "model.toml").is_file():
-        # the model with the effect the diagnosis named, kept or not: the models the demo's
-        # ship-flight diagnosis compiles (the base and each candidate added to it)
-        model = out / "model.toml"
+    # the steady step: the same on the cruise legs (flown for the net: there since its
+    # training began), the new spec's misfit measured on the calibration flight
+    steady = steady_step(out / "cruise.parquet", step["model"], out / "steady.toml", still,
+                         run=lambda *a: _airwake(*a, capture=True))
+    model = steady["model"]
+    if args.warm:
+        # the models with the effects the diagnoses named, kept or not: the models the
+        # demo's ship-flight diagnosis compiles (the base and each candidate added to it)
+        model = next((m for m in (out / "steady.toml", out / "model.toml") if m.is_file()),
+                     model)
     _finish(sil)
     _airwake("export", str(rec), "--out", str(flight), "--progress")
     # scoring only: the truth world's columns beside the export (the analysis never reads
@@ -234,10 +241,12 @@ def _demo(argv: list[str] | None) -> int:
                        ("diagnose_still_air", diag), ("wind_estimate", est),
                        ("wind_estimate_still_air_net", net_est),
                        ("discrepancy_step", {k: str(v) if isinstance(v, Path) else v
-                                             for k, v in step.items()})):
+                                             for k, v in step.items()}),
+                       ("steady_step", {k: str(v) if isinstance(v, Path) else v
+                                        for k, v in steady.items()})):
         (out / f"{name}.json").write_text(json.dumps(data, indent=1))
     write_report(report, mapdir, calib, est, amap, still_air, with_wind, args, diag, step,
-                 net_est)
+                 net_est, steady)
     if args.warm:
         shutil.rmtree(out, ignore_errors=True)
         print(f"setup: kernels compiled in {time.monotonic() - t0:.0f} s", flush=True)
@@ -360,9 +369,20 @@ def net_rows(net_est: dict, est: dict) -> list:
     return rows
 
 
+def _added_table(step: dict, before: str, where: str = "") -> str:
+    """The channels' RMS before and after the effect a discrepancy step added ("" when it
+    added none)."""
+    if not step.get("added"):
+        return ""
+    b, a = step["before"], step["after"]
+    return (f"<table><tr><th>channel{' ' + where if where else ''}</th><th>RMS, {before}"
+            f"</th><th>RMS, with {html.escape(step['added'])}</th></tr>"
+            + _rows((ch, f"{b[ch]:.4f}", f"{a[ch]:.4f}") for ch in b) + "</table>")
+
+
 def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
                  still_air: dict, with_wind: dict, args, diag: dict, step: dict,
-                 net_est: dict) -> Path:
+                 net_est: dict, steady: dict | None = None) -> Path:
     """report/index.html: the map, the estimates' accuracy, the model section."""
     report.mkdir(parents=True, exist_ok=True)
     for f in amap["figures"]:
@@ -403,12 +423,16 @@ def write_report(report: Path, mapdir: Path, calib: dict, est: dict, amap: dict,
                  f"{html.escape(diag['verdict']['text'])} (ranked: "
                  f"{html.escape(candidates_text(diag))}).</p>")
     honesty = estimate_verdict(comp)
-    added = ""
-    if step.get("added"):
-        b, a = step["before"], step["after"]
-        added = ("<table><tr><th>channel</th><th>RMS, calibrated</th><th>RMS, with "
-                 f"{html.escape(step['added'])}</th></tr>"
-                 + _rows((ch, f"{b[ch]:.4f}", f"{a[ch]:.4f}") for ch in b) + "</table>")
+    added = _added_table(step, "calibrated")
+    steady_par = ""
+    if steady is not None:
+        steady_par = (f"<p><b>airwake model diagnose</b> on the still-air cruise legs "
+                      f"({args.cruise_s:g} s, steady at 3.5 m/s), the model above: "
+                      f"{html.escape(steady['diagnosis'])} (ranked: "
+                      f"{html.escape(steady['ranked'])}). {html.escape(steady['why'])}; "
+                      "its misfit (the wind estimator's channel noise floor) measured on the "
+                      "calibration flight.</p>"
+                      + _added_table(steady, "before", "on the cruise legs"))
     trust = calib.get("wind_trust") or {}
     trust_rows = [(k, "yes" if v["trusted"] else "NO", v["why"]) for k, v in trust.items()]
     bias = still_air_bias_section(calib.get("still_air_wind_bias"))
@@ -460,6 +484,7 @@ fast part the smoother's own posterior says it did not see either (docs/networks
 {calib.get('rms_after_all', float('nan')):.4f}). <b>airwake model diagnose</b> on the same
 flight: {html.escape(step['diagnosis'])} (ranked: {html.escape(step['ranked'])}).
 {html.escape(step['why'])}.</p>{added}
+{steady_par}
 {bias}
 <p>Wind components it can be trusted for:</p>
 <table><tr><th>component</th><th>trusted</th><th>why</th></tr>{_rows(trust_rows)}</table>

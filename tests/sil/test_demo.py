@@ -75,10 +75,11 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     from hil_sim.boards.demo import net_rows
 
     net = json.loads((out / "wind_estimate_still_air_net.json").read_text())
-    step0 = json.loads((out / "discrepancy_step.json").read_text())
+    # the model the wind is estimated with: the sequence's last step's
+    final = json.loads((out / "steady_step.json").read_text())["model"]
     assert net["method"] == "net" and net["held_out"]
     # its interval: the still-air error widened by the model's smoother, said so
-    assert net["interval_model"] == step0["model"]
+    assert net["interval_model"] == final
     assert "above 0.1 Hz" in net["std_is"]
     assert all(v > 0 for v in net["interval_fast_std_median_m_s"].values())
     # and the fast wind the smoother did not see either, from its learned turbulence
@@ -95,7 +96,7 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
     assert anchored["anchor"] == str(out / "wind_still_air_net.parquet")
     assert (out / "wind_anchored.parquet").is_file()
     # its intervals carry what the model's own estimate erred beyond them in still air
-    excess = spec_calibration(step0["model"])["still_air_wind_error"]
+    excess = spec_calibration(final)["still_air_wind_error"]
     assert anchored["still_air_wind_error"] == excess["anchored"]
     assert len(excess["smoother"]) == 6 and min(excess["smoother"]) >= 0
     assert "a still-air wind net" in html
@@ -113,6 +114,21 @@ def test_demo_runs_every_step_and_prints_where_the_map_and_report_are(tmp_path):
                     if step["after"][c] > step["before"][c] * 1.01]
     else:
         assert step["model"] == str(out / "baseline.toml")
+    # then the same on the cruise legs, from that model, its misfit measured on the
+    # calibration flight (the wind estimator's floor for a flight that manoeuvres)
+    steady = json.loads((out / "steady_step.json").read_text())
+    assert html_escape(steady["diagnosis"]) in html and "still-air cruise legs" in html
+    if steady["added"]:
+        assert final == str(out / "steady.toml")
+        assert steady["added"] in load_spec(final).effect_names
+        assert set(step["added"] and [step["added"]] or []) <= set(
+            load_spec(final).effect_names)
+        table = spec_calibration(final)
+        assert table["model_error_flight"] == str(out / "calibration.parquet")
+        assert table["added_effects"][-1] == steady["added"]
+        assert f"RMS, with {steady['added']}" in html
+    else:
+        assert final == step["model"]
     # the calibrated model's steady wind error in still air, and the channels that make it
     from hil_sim.boards.demo import still_air_bias_section
 

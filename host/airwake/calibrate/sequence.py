@@ -5,6 +5,8 @@ model add` of the effect the verdict names) and as `make demo`, the wind bench a
 
     step = discrepancy_step("calibration.parquet", "baseline.toml", "model.toml")
     step["model"]      # the spec to estimate the wind with: out, or base when nothing added
+    steady = steady_step("cruise.parquet", step["model"], "steady.toml",
+                         "calibration.parquet")   # the steady step (below)
 
 The demo's driver and the wind bench (hil_sim) pass `run`: the commands, as a user types
 them; hil_sim imports nothing of the discrepancy package (tests/hil_sim/
@@ -17,6 +19,16 @@ the horizontal axes 1.0-1.5 1/s off (w_x -1.23 / -1.53, w_y +1.05 / +1.00, its 9
 intervals holding the truth 2-25 % of the time); with the effect the diagnosis names on
 that flight (advance_cyclic: the rotor's blow-back and inflow roll per advance ratio)
 +0.07 / +0.16 and -0.40 / -0.33.
+
+The steady step (`steady_step`): the same diagnosis on a still-air flight of steady legs
+(`still_air_cruise`, out and back at 3.5 m/s), from the first step's model. On the
+blade-element truth it names `advance_torque` (the rotor torque falls with the airspeed
+faster than the model's: a yaw couple; 27 % explained, r-dot's RMS on the legs 0.38 ->
+0.27 rad/s^2), which the calibration flight's short speed legs do not show (fitted there it
+comes out 6x smaller and explains 0.2 %). Fitted on the legs, its misfit measured on the
+calibration flight: the steady legs' smaller misfit as the channels' noise floor would
+narrow a wind flight's intervals (the omega_z std 0.20 -> 0.12, coverage 0.63-0.81).
+docs/calibration.md has what it does to the wind.
 """
 
 from __future__ import annotations
@@ -41,11 +53,22 @@ def _diagnose_here(still, base) -> dict:
     return summary(d)
 
 
-def _add_here(effect: str, still, base, out) -> dict:
-    """`airwake model add EFFECT --data STILL --model BASE --out OUT --json`, in-process."""
+def _add_here(effect: str, still, base, out, misfit_on=None) -> dict:
+    """`airwake model add EFFECT --data STILL --model BASE --out OUT [--misfit-on M]
+    --json`, in-process."""
     from airwake.discrepancy.add import add_effect
 
-    return add_effect(str(base), effect, str(still), out=str(out)).to_json()
+    return add_effect(str(base), effect, str(still), out=str(out),
+                      misfit_on=None if misfit_on is None else str(misfit_on)).to_json()
+
+
+def steady_step(cruise, model, out, still, run=None) -> dict:
+    """The sequence's second step: diagnose `model` (the first step's) on a still-air
+    flight of steady legs `cruise` and add the effect its verdict names, fitted there, its
+    misfit measured on the calibration flight `still` (whose manoeuvres are a wind
+    flight's: the steady legs' smaller misfit would narrow the wind's intervals). What it
+    finds on the blade-element truth: `advance_torque` (module docstring)."""
+    return discrepancy_step(cruise, model, out, run=run, misfit_on=still)
 
 
 def candidates_text(diag: dict, k: int = 3) -> str:
@@ -55,14 +78,16 @@ def candidates_text(diag: dict, k: int = 3) -> str:
                      + (" (significant)" if c["significant"] else "") for c in tested)
 
 
-def discrepancy_step(still, base, out, run=None) -> dict:
+def discrepancy_step(still, base, out, run=None, misfit_on=None) -> dict:
     """Diagnose the calibrated model `base` on its still-air flight `still` and add the
     effect its verdict names (none when the verdict is "calibrate", "wind" or "none"),
     keeping `base` when the fitted effect makes a channel worse. Returns {"model": the spec
     to use, "diagnosis": the verdict's text, "ranked": the first candidates, "added": the
     effect or None, "why": one line, "before"/"after": per-channel RMS of the fit when
     added}. `run(*args)`: runs one `airwake` command with --json and returns its JSON (the
-    demo shows the commands as a user types them); default: the same calls in-process."""
+    demo shows the commands as a user types them); default: the same calls in-process.
+    `misfit_on`: the still-air flight the new spec's misfit is measured on when not
+    `still` (`model add --misfit-on`: the steady step below)."""
     if run is None:
         diag = _diagnose_here(still, base)
     else:
@@ -76,10 +101,11 @@ def discrepancy_step(still, base, out, run=None) -> dict:
                        f"({diag['verdict']['kind']}): the calibrated model is used")
         return step
     if run is None:
-        add = _add_here(effect, still, base, out)
+        add = _add_here(effect, still, base, out, misfit_on)
     else:
+        extra = ("--misfit-on", str(misfit_on)) if misfit_on is not None else ()
         add = run("model", "add", effect, "--data", str(still), "--model", str(base),
-                  "--out", str(out), "--json")
+                  "--out", str(out), *extra, "--json")
     if add["worse_channels"]:
         step["why"] = (f"{effect} as fitted made {', '.join(add['worse_channels'])} "
                        "worse: the calibrated model is kept")
