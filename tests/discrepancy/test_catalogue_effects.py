@@ -188,6 +188,21 @@ def test_advance_torque_is_a_yaw_couple_in_the_advance_ratio_squared():
     assert np.all(np.abs(z1[:, 5] - z0[:, 5]) > 1e-6)
 
 
+@pytest.mark.parametrize("cand", [c for c in CANDIDATES if c.reuse_hidden],
+                         ids=lambda c: c.name)
+def test_a_candidate_that_reuses_the_baseline_rotor_states_leaves_their_rates_alone(cand):
+    # the diagnosis and `model add` evaluate such a candidate at the baseline's relaxed
+    # rotor states (one evaluation, no relaxation): valid only where the effect does not
+    # change how those states move
+    model = BASE + effect_with(cand.name, {**cand.base, **cand.screen})
+    x, u, env = _rows(model)
+    hidden = [model.state_index(n) for n in BASE.hidden_state_names]
+    assert hidden
+    d0 = BASE.derivatives(x[:, :BASE.n_states], u, None, env)
+    d1 = model.derivatives(x, u, None, env)
+    np.testing.assert_allclose(d1[:, hidden], d0[:, hidden], rtol=0, atol=1e-12)
+
+
 def test_an_effect_that_adds_to_the_flybar_mixer_must_follow_the_flybar():
     # placed before the flybar its increment would be overwritten by the mixer: refused
     from airwake.heli.model import HeliModel

@@ -10,8 +10,9 @@ A `Candidate` names a registered catalogue effect (`airwake.heli.effects.catalog
   the screening (each a dict of values; the best by cross-validation is kept);
 - `fit`: the parameters the nonlinear refinement and `add` fit;
 - `needs`: flight columns without which the candidate cannot be tested;
-- `reuse_hidden`: the effect only transforms the measurement, so the baseline's
-  reconstructed rotor states can be reused (one model evaluation instead of a relaxation);
+- `reuse_hidden`: the effect only transforms the measurement, or adds a load the rotor's
+  states do not feel, so the baseline's reconstructed rotor states can be reused (one
+  model evaluation instead of a relaxation);
 - `manoeuvre`: what a flight should contain to separate it from look-alikes.
 """
 
@@ -136,6 +137,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         "advance_torque", "rotor torque vs airspeed",
         screen={"k_q": 0.1},
         fit=("k_q",),
+        reuse_hidden=True,  # a couple on the body: the rotor's states do not feel it
         manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
                   "(the torque falls with the airspeed squared in every direction, a tail "
                   "or fin error changes sign with the sideslip)",
