@@ -182,6 +182,10 @@ def test_advance_torque_is_a_yaw_couple_in_the_advance_ratio_squared():
     np.testing.assert_allclose(np.ravel(c1.rotor_torque_nm), np.ravel(c0.rotor_torque_nm),
                                atol=0)
     assert np.all(np.abs(want) > 0)
+    # k_q > 0 (the torque falls faster than the model's): the couple opposes the main
+    # rotor's torque reaction on the body (the sign follows the rotor sense, s)
+    reaction = np.asarray(c0.loads["main_rotor"][1])[:, 2]
+    assert np.all(np.sign(m1[:, 2] - m0[:, 2]) == -np.sign(reaction)), (reaction, want)
     # the measured yaw acceleration moves, the specific forces do not
     z0, z1 = np.asarray(c0.meas), np.asarray(c1.meas)
     np.testing.assert_allclose(z1[:, :3], z0[:, :3], atol=1e-12)

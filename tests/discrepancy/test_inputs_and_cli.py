@@ -221,8 +221,20 @@ def test_the_misfit_can_be_measured_on_another_still_air_flight(lever, lever_pat
     assert not np.allclose(rms_half, rms_full, rtol=1e-6)
 
 
-def test_a_missing_misfit_flight_is_named_before_the_fit(lever_path, tmp_path):
-    with pytest.raises(DiscrepancyError, match=r"misfit flight .*nope.parquet"):
+def test_a_missing_or_unreadable_misfit_flight_is_named_before_the_fit(lever_path, tmp_path,
+                                                                        monkeypatch):
+    from airwake.discrepancy import add as add_mod
+
+    def no_fit(*a, **k):
+        raise AssertionError("fitted before the misfit flight was checked")
+
+    monkeypatch.setattr(add_mod, "fit_parameters", no_fit)
+    with pytest.raises(DiscrepancyError, match=r"misfit flight .*nope.parquet: no such"):
         add_effect(str(TRUTH_SPEC), "imu_lever_arm", lever_path, out=tmp_path / "x.toml",
                    misfit_on=tmp_path / "nope.parquet")
+    notes = tmp_path / "notes.csv"
+    notes.write_text("a,b\n1,2\n")
+    with pytest.raises(DiscrepancyError, match=r"misfit flight .*notes.csv: not a flight"):
+        add_effect(str(TRUTH_SPEC), "imu_lever_arm", lever_path, out=tmp_path / "x.toml",
+                   misfit_on=notes)
     assert not (tmp_path / "x.toml").exists()

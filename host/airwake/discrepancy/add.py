@@ -128,6 +128,20 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     return table
 
 
+def _check_misfit_flight(path) -> None:
+    """A `misfit_on` flight that cannot be read fails before the fit, named (its use: a
+    still-air flight, which the caller vouches for: nothing here can tell the air)."""
+    from airwake.calibrate import load_flight
+    from airwake.errors import AirwakeError
+
+    if not Path(str(path)).is_file():
+        raise DiscrepancyError(f"misfit flight {path}: no such flight table")
+    try:
+        load_flight(str(path))  # as `model_error` reads it after the fit
+    except (AirwakeError, OSError, ValueError) as exc:
+        raise DiscrepancyError(f"misfit flight {path}: not a flight table ({exc})") from None
+
+
 def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                settings: AnalysisSettings | None = None, analysis: Analysis | None = None,
                max_nfev: int = 30, name: str = "", progress=None, wind=None,
@@ -143,8 +157,8 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
     if effect == WIND_CANDIDATE:
         raise DiscrepancyError(f"{WIND_CANDIDATE} is not a model effect: the wind is an input "
                                f"of the model, not part of it; {ADVICE}")
-    if misfit_on is not None and not Path(str(misfit_on)).is_file():
-        raise DiscrepancyError(f"misfit flight {misfit_on}: no such flight table")
+    if misfit_on is not None:
+        _check_misfit_flight(misfit_on)
     settings = settings or AnalysisSettings()
     start_spec = model
     model = load_model(model)

@@ -32,6 +32,10 @@ class AdvanceTorque(Effect):
     theory. k_q > 0: the airframe's torque falls faster with airspeed than the model's, by
     the fraction k_q of the torque at an airspeed of v_h. k_q = 0 switches it off. Fitted
     on a still-air flight with forward, backward and sideward legs.
+    Valid at the legs' airspeeds (up to ~1 v_h, 3.5 m/s on a 600-class machine): momentum
+    theory's drop of the induced velocity levels off beyond (0.21 of it at v_h, 0.51 at
+    2 v_h, 0.67 at 3 v_h) while mu^2 keeps growing; and |Q| holds the profile torque too,
+    so at a thrust far below hover (C_T at its floor) the couple is overstated.
     """
 
     PARAMETERS = (
