@@ -245,3 +245,19 @@ def test_advance_effects_are_untestable_without_airspeed_across_the_disc(name):
     assert flight_can_test(cand, hover, BASE, wind) is None
     legs = _Columns(vel_u_m_s=np.r_[np.zeros(n - 100), np.full(100, 3.0)], vel_v_m_s=np.zeros(n))
     assert flight_can_test(cand, legs, BASE) is None
+
+
+def test_every_candidate_names_a_known_flight_condition_and_a_registered_effect():
+    # a typo in a candidate's condition would raise in the middle of a diagnosis
+    from airwake.discrepancy.candidates import CANDIDATES, CONDITIONS
+    from airwake.heli.effects.base import effect_class
+
+    for cand in CANDIDATES:
+        assert cand.condition in ("", *CONDITIONS), cand.name
+        assert effect_class(cand.name) is not None
+    rotor = [c for c in CANDIDATES if c.condition == "rotor_speed_moves"]
+    assert rotor, "rotor_droop lost its condition"
+    steady = _Columns(rotor_speed_rad_s=np.full(100, 160.0))
+    assert "constant" in CONDITIONS["rotor_speed_moves"](steady, BASE, None)
+    moving = _Columns(rotor_speed_rad_s=np.linspace(150.0, 160.0, 100))
+    assert CONDITIONS["rotor_speed_moves"](moving, BASE, None) is None

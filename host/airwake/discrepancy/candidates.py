@@ -10,6 +10,8 @@ A `Candidate` names a registered catalogue effect (`airwake.heli.effects.catalog
   the screening (each a dict of values; the best by cross-validation is kept);
 - `fit`: the parameters the nonlinear refinement and `add` fit;
 - `needs`: flight columns without which the candidate cannot be tested;
+- `condition`: what else the flight must hold for the signature to show (a key of
+  `CONDITIONS`: near the ground, through the air at speed, a rotor speed that moves);
 - `reuse_hidden`: the effect only transforms the measurement, or adds a load the rotor's
   states do not feel, so the baseline's reconstructed rotor states can be reused (one
   model evaluation instead of a relaxation);
@@ -34,6 +36,50 @@ class Candidate:
     needs: tuple = ()
     reuse_hidden: bool = False
     manoeuvre: str = ""
+    condition: str = ""  # a key of CONDITIONS: what the flight must hold beyond `needs`
+
+
+# advance_cyclic / advance_torque: the in-plane airspeed that shows their signature
+MIN_ADVANCE_AIRSPEED_M_S = 1.5
+MIN_ADVANCE_FRACTION = 0.02  # ... on at least this share of the samples
+
+
+def air_velocity_uv(flight, wind=None) -> tuple[np.ndarray, np.ndarray]:
+    """In-plane air velocity (body x, y) over the flight: the known wind ((T, 6), body axes)
+    minus the body velocity, or minus the body velocity alone in still air."""
+    u, v = -flight.column("vel_u_m_s"), -flight.column("vel_v_m_s")
+    if wind is not None:
+        u, v = u + np.asarray(wind)[:, 0], v + np.asarray(wind)[:, 1]
+    return u, v
+
+
+# What a flight must hold beyond its columns for a candidate's signature to show: each
+# `(flight, model, wind) -> None | why not` (a short phrase), named by `Candidate.condition`.
+def _near_ground(flight, model, wind) -> str | None:
+    radius = float(model["main_rotor"].parameters()["radius_m"])
+    z = flight.column("height_agl_m")
+    low = np.isfinite(z) & (z < 3.0 * radius)
+    if low.sum() < 0.02 * z.size:
+        return "the flight never comes within 3 rotor radii of the ground"
+    return None
+
+
+def _airspeed(flight, model, wind) -> str | None:
+    fast = np.hypot(*air_velocity_uv(flight, wind)) > MIN_ADVANCE_AIRSPEED_M_S
+    if np.mean(fast) < MIN_ADVANCE_FRACTION:
+        return (f"the flight never flies faster than {MIN_ADVANCE_AIRSPEED_M_S} m/s "
+                "through the air across the disc")
+    return None
+
+
+def _rotor_speed_moves(flight, model, wind) -> str | None:
+    if np.ptp(flight.column("rotor_speed_rad_s")) < 1e-6:
+        return "the measured rotor speed is constant"
+    return None
+
+
+CONDITIONS = {"near_ground": _near_ground, "airspeed": _airspeed,
+              "rotor_speed_moves": _rotor_speed_moves}
 
 
 CANDIDATES: tuple[Candidate, ...] = (
@@ -46,6 +92,7 @@ CANDIDATES: tuple[Candidate, ...] = (
                 {"fade_start_ratio": 3.0, "fade_end_ratio": 5.0}),
         fit=("strength", "fade_start_ratio", "fade_end_ratio"),
         needs=("height_agl_m",),
+        condition="near_ground",
         manoeuvre="hovers at several heights between 0.5 R and 3 R (zero airspeed) with slow "
                   "collective changes",
     ),
@@ -70,6 +117,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         base={"tachometer_gain": 0.0},
         fit=("tachometer_gain",),
         needs=("rotor_speed_rad_s",),
+        condition="rotor_speed_moves",
         manoeuvre="large collective steps with the tachometer recorded (the governor droops "
                   "and recovers)",
     ),
@@ -90,6 +138,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         fit=("inflow_increase", "peak_airspeed_m_s", "gradient_fraction",
              "full_height_ratio", "zero_height_ratio"),
         needs=("height_agl_m",),
+        condition="near_ground",
         manoeuvre="low passes near the ground at 1-6 m/s and hovers at the same height (no "
                   "recirculation in hover, where ground effect is largest)",
     ),
@@ -130,6 +179,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         # the cross terms come in the refinement and `add`): half the rotor relaxations
         screen={"k_cx": 0.3, "k_sy": 0.3},
         fit=("k_cx", "k_cy", "k_sx", "k_sy"),
+        condition="airspeed",
         manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
                   "(the cyclic trim changes with the airspeed across the disc)",
     ),
@@ -138,6 +188,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         screen={"k_q": 0.1},
         fit=("k_q",),
         reuse_hidden=True,  # a couple on the body: the rotor's states do not feel it
+        condition="airspeed",
         manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
                   "(the torque falls with the airspeed squared in every direction, a tail "
                   "or fin error changes sign with the sideslip)",
@@ -159,39 +210,10 @@ def effect_with(name: str, values: dict):
     return effect_class(name)(**values)
 
 
-# advance_cyclic / advance_torque: the in-plane airspeed that shows their signature
-MIN_ADVANCE_AIRSPEED_M_S = 1.5
-MIN_ADVANCE_FRACTION = 0.02  # ... on at least this share of the samples
-
-
-def air_velocity_uv(flight, wind=None) -> tuple[np.ndarray, np.ndarray]:
-    """In-plane air velocity (body x, y) over the flight: the known wind ((T, 6), body axes)
-    minus the body velocity, or minus the body velocity alone in still air."""
-    u, v = -flight.column("vel_u_m_s"), -flight.column("vel_v_m_s")
-    if wind is not None:
-        u, v = u + np.asarray(wind)[:, 0], v + np.asarray(wind)[:, 1]
-    return u, v
-
-
 def flight_can_test(cand: Candidate, flight, model, wind=None) -> str | None:
     """None when the flight can test `cand`, else why not (a short phrase). `wind`: the
     known wind given as the model's input ((T, 6), body axes), else still air."""
     for col in cand.needs:
         if not flight.has(col):
             return f"the flight has no {col}"
-    if cand.name in ("ground_effect", "wake_recirculation"):
-        radius = float(model["main_rotor"].parameters()["radius_m"])
-        z = flight.column("height_agl_m")
-        low = np.isfinite(z) & (z < 3.0 * radius)
-        if low.sum() < 0.02 * z.size:
-            return "the flight never comes within 3 rotor radii of the ground"
-    if cand.name in ("advance_cyclic", "advance_torque"):
-        fast = np.hypot(*air_velocity_uv(flight, wind)) > MIN_ADVANCE_AIRSPEED_M_S
-        if np.mean(fast) < MIN_ADVANCE_FRACTION:
-            return (f"the flight never flies faster than {MIN_ADVANCE_AIRSPEED_M_S} m/s "
-                    "through the air across the disc")
-    if cand.name == "rotor_droop":
-        om = flight.column("rotor_speed_rad_s")
-        if np.ptp(om) < 1e-6:
-            return "the measured rotor speed is constant"
-    return None
+    return CONDITIONS[cand.condition](flight, model, wind) if cand.condition else None
