@@ -19,7 +19,7 @@ OFF = {
     "rotor_droop": {"tachometer_gain": 0.0}, "dynamic_inflow": {},
     "wake_recirculation": {"inflow_increase": 0.0}, "accel_bias": {},
     "accel_misalignment": {}, "cg_offset": {}, "fuselage_drag_error": {},
-    "advance_cyclic": {}, "advance_torque": {},
+    "advance_cyclic": {}, "advance_torque": {}, "yaw_gyro": {},
 }
 
 
@@ -79,8 +79,10 @@ def test_effect_is_finite_and_changes_the_prediction_when_on(name):
     x = _state_at_rest(model, name, x, u)
     if name in ("servo_lag", "dynamic_inflow"):
         x[:, model.state_slice(name)] *= 0.9  # away from rest, so the lag shows
-    z0 = BASE.measure(x[:, :BASE.n_states], u, None, env)
-    z1 = model.measure(x, u, None, env)
+    # a wind that rotates (yaw_gyro acts only there; the others see the same air)
+    w = np.tile([1.0, -0.5, 0.2, 0.1, -0.1, 0.4], (len(x), 1))
+    z0 = BASE.measure(x[:, :BASE.n_states], u, w, env)
+    z1 = model.measure(x, u, w, env)
     assert np.all(np.isfinite(z1))
     assert np.max(np.abs(z1 - z0)) > 1e-3
 
@@ -190,6 +192,37 @@ def test_advance_torque_is_a_yaw_couple_in_the_advance_ratio_squared():
     z0, z1 = np.asarray(c0.meas), np.asarray(c1.meas)
     np.testing.assert_allclose(z1[:, :3], z0[:, :3], atol=1e-12)
     assert np.all(np.abs(z1[:, 5] - z0[:, 5]) > 1e-6)
+
+
+def test_yaw_gyro_moves_the_tail_pitch_by_its_gain_times_the_air_rotation_only():
+    # delta_ped += g omega_z: nothing in still air or in air that only translates; in air
+    # rotating about z the yaw acceleration moves exactly as a pedal step of g omega_z does
+    g = -0.06
+    model = BASE + effect_with("yaw_gyro", {"gain_rad_per_rad_s": g})
+    x, u, env = _rows(model)
+    still = np.tile([2.0, -1.0, 0.3, 0.4, -0.3, 0.0], (len(x), 1))  # no omega_z
+    np.testing.assert_allclose(model.measure(x, u, still, env),
+                               BASE.measure(x, u, still, env), atol=0)
+    w = still.copy()
+    w[:, 5] = [0.5, -0.8, 0.2, 1.0]
+    c1 = model.evaluate(x, u, w, env)
+    pedal = u.copy()
+    pedal[:, 3] += g * w[:, 5]
+    c0 = BASE.evaluate(x, pedal, w, env)
+    np.testing.assert_allclose(np.ravel(c1.tail_pitch_rad), np.ravel(c0.tail_pitch_rad),
+                               rtol=1e-12)
+    np.testing.assert_allclose(model.measure(x, u, w, env), BASE.measure(x, pedal, w, env),
+                               rtol=1e-10, atol=1e-12)
+    # the model's yaw-acceleration answer to omega_z changes by g times its answer to the
+    # pedal (B > 0: + pedal yaws the nose right): g < 0 takes the gyro's share out of it
+    h = 1e-4
+    dw, du = np.zeros_like(still), np.zeros_like(u)
+    dw[:, 5], du[:, 3] = h, h
+    r_base = (BASE.measure(x, u, still + dw, env) - BASE.measure(x, u, still, env))[:, 5] / h
+    r_gyro = (model.measure(x, u, still + dw, env) - model.measure(x, u, still, env))[:, 5] / h
+    b = (BASE.measure(x, u + du, still, env) - BASE.measure(x, u, still, env))[:, 5] / h
+    assert np.all(b > 0)
+    np.testing.assert_allclose(r_gyro - r_base, g * b, rtol=2e-3)
 
 
 @pytest.mark.parametrize("cand", [c for c in CANDIDATES if c.reuse_hidden],

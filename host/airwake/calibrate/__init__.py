@@ -45,7 +45,7 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
               seed: int = 0, particles: int = 2000, iterations: int = 500,
               pso_windows: int | None = 16, spread: float = 0.5, max_nfev: int = 60,
               channel_scale=None, cutoff_hz: float | None = 6.0,
-              progress: bool = False) -> FitResult:
+              progress: bool = False, yaw_gyro_effect: bool = False) -> FitResult:
     """Fit the model's free parameters to a flight (see docs/calibration.md).
 
     params: None (the non-fixed parameters this flight identifies, by subset selection:
@@ -53,7 +53,9 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     evenly spaced subset of that many windows (None = the whole flight). cutoff_hz: the
     front end's zero-phase low-pass of every signal (the wind estimator's, so the model is
     fitted to what the estimator will compare it with; None or 0: the raw flight). The
-    seed drives the PSO (initial swarm, r1/r2, the window subset) and nothing else."""
+    seed drives the PSO (initial swarm, r1/r2, the window subset) and nothing else.
+    yaw_gyro_effect: where the flight shows a yaw gyro, add the catalogue's `yaw_gyro` to
+    the fitted model with the gain its tail-servo capture measures (`_gyro_share`)."""
     import numpy as np
 
     from airwake.calibrate.envelope import flight_envelope, wind_trust
@@ -125,6 +127,7 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
     line = gyro_note(gyro)
     if line:
         result.notes.append(line)
+        _gyro_share(result, gyro, getattr(ft, "df", ft), cutoff_hz, yaw_gyro_effect)
     result.info.update(samples=int(len(data)), windows=int(windows.n_windows),
                        scored_samples=int(windows.n_scored), seed=int(seed),
                        held=list(held), front_end=front, envelope=envelope,
@@ -132,6 +135,34 @@ def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
                        [float(v) for v in weighted_start],
                        wind_trust=wind_trust(envelope), yaw_gyro=gyro)
     return result
+
+
+def _gyro_share(result, gyro: dict, df, cutoff_hz, add: bool) -> None:
+    """The gyro's share of the fitted yaw damping (`calibrate.yaw_gyro.effect_gain`) into
+    `gyro` (the report's `yaw_gyro`), and the `yaw_gyro` effect with its gain into the
+    fitted model when `add`."""
+    from airwake.calibrate.yaw_gyro import aero_yaw_damping, effect_gain
+
+    aero = aero_yaw_damping(df, gyro, cutoff_hz)
+    share = effect_gain(result.model, gyro, aero)
+    if aero is None or share is None:
+        return
+    gyro.update(aero_damping_1_s=aero["damping_1_s"], aero_explained=aero["explained"],
+                **share)
+    g = share["gain_rad_per_rad_s"]
+    what = (f"the flight's tail-servo pulses put the airframe's aerodynamic yaw damping at "
+            f"{aero['damping_1_s']:.2f} 1/s, the fitted model's at "
+            f"{share['model_damping_1_s']:.2f}: the rest is the gyro's, on the inertial rate")
+    if add and g < 0.0 and "yaw_gyro" not in result.model:
+        from airwake.heli.effects.catalogue import YawGyro
+
+        result.model = result.model + YawGyro(gain_rad_per_rad_s=g)
+        result.notes.append(f"{what}; yaw_gyro added with gain {g:+.4f} rad per rad/s (the "
+                            "model's answer to the air's rotation about z is the "
+                            "airframe's)")
+    elif g < 0.0:
+        result.notes.append(f"{what}; --yaw-gyro adds the catalogue's yaw_gyro with gain "
+                            f"{g:+.4f} rad per rad/s (docs/calibration.md)")
 
 
 def model_error_std(model, flight, *, cutoff_hz: float = 6.0, window_s: float = 2.0,

@@ -131,7 +131,7 @@ def _handle(args: argparse.Namespace) -> int:
         seed=args.seed, particles=args.particles, iterations=args.iterations,
         pso_windows=args.pso_windows or None, max_nfev=args.max_nfev,
         channel_scale=args.channel_scale, cutoff_hz=args.cutoff_hz or None,
-        progress=sys.stderr.isatty() or args.progress)
+        progress=sys.stderr.isatty() or args.progress, yaw_gyro_effect=args.yaw_gyro)
     desc = (f"calibrated by airwake calibrate --method {args.method} from {args.flight} "
             f"(start {args.model})")
     table = calibration_table(result, args.flight, args.model)
@@ -185,5 +185,10 @@ def register(subparsers) -> None:
     p.add_argument("--channel-scale", type=float, nargs=6, metavar="S",
                    help="per-channel noise scales (acc x/y/z m/s^2, pdot/qdot/rdot rad/s^2); "
                    "default: estimated from the data")
+    p.add_argument("--yaw-gyro", action="store_true",
+                   help="where the flight's tail-servo capture shows a yaw gyro, add the "
+                   "catalogue's yaw_gyro to the fitted model with the gain it measures (the "
+                   "gyro's share of the fitted yaw damping answers the inertial yaw rate, "
+                   "not the air's rotation; docs/calibration.md)")
     p.add_argument("--progress", action="store_true", help="progress lines even when piped")
     p.set_defaults(func=_handle)

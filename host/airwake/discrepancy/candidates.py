@@ -11,7 +11,8 @@ A `Candidate` names a registered catalogue effect (`airwake.heli.effects.catalog
 - `fit`: the parameters the nonlinear refinement and `add` fit;
 - `needs`: flight columns without which the candidate cannot be tested;
 - `condition`: what else the flight must hold for the signature to show (a key of
-  `CONDITIONS`: near the ground, through the air at speed, a rotor speed that moves);
+  `CONDITIONS`: near the ground, through the air at speed, in a known air that rotates,
+  a rotor speed that moves);
 - `reuse_hidden`: the effect only transforms the measurement, or adds a load the rotor's
   states do not feel, so the baseline's reconstructed rotor states can be reused (one
   model evaluation instead of a relaxation);
@@ -42,6 +43,8 @@ class Candidate:
 # advance_cyclic / advance_torque: the in-plane airspeed that shows their signature
 MIN_ADVANCE_AIRSPEED_M_S = 1.5
 MIN_ADVANCE_FRACTION = 0.02  # ... on at least this share of the samples
+# yaw_gyro: the known wind's rotation about z that shows it (std over the flight)
+MIN_AIR_ROTATION_RAD_S = 0.05
 
 
 def air_velocity_uv(flight, wind=None) -> tuple[np.ndarray, np.ndarray]:
@@ -72,6 +75,14 @@ def _airspeed(flight, model, wind) -> str | None:
     return None
 
 
+def _air_rotates(flight, model, wind) -> str | None:
+    if wind is None or np.std(np.asarray(wind)[:, 5]) < MIN_AIR_ROTATION_RAD_S:
+        return ("the air does not rotate about z (still air, or no known wind): a still-air "
+                "flight cannot show it; its gain is the tail-servo capture's "
+                "(airwake calibrate)")
+    return None
+
+
 def _rotor_speed_moves(flight, model, wind) -> str | None:
     if np.ptp(flight.column("rotor_speed_rad_s")) < 1e-6:
         return "the measured rotor speed is constant"
@@ -79,7 +90,7 @@ def _rotor_speed_moves(flight, model, wind) -> str | None:
 
 
 CONDITIONS = {"near_ground": _near_ground, "airspeed": _airspeed,
-              "rotor_speed_moves": _rotor_speed_moves}
+              "air_rotates": _air_rotates, "rotor_speed_moves": _rotor_speed_moves}
 
 
 CANDIDATES: tuple[Candidate, ...] = (
@@ -192,6 +203,16 @@ CANDIDATES: tuple[Candidate, ...] = (
         manoeuvre="forward, backward and sideward legs at 2-4 m/s, held for several seconds "
                   "(the torque falls with the airspeed squared in every direction, a tail "
                   "or fin error changes sign with the sideslip)",
+    ),
+    Candidate(
+        "yaw_gyro", "yaw gyro on the inertial rate",
+        screen={"gain_rad_per_rad_s": 0.05},
+        fit=("gain_rad_per_rad_s",),
+        reuse_hidden=True,  # a tail pitch: the main rotor's states do not feel it
+        condition="air_rotates",
+        manoeuvre="a flight in a known rotating air (a vortex, a turntable's swirl): still "
+                  "air cannot show it; `airwake calibrate` measures its gain from the "
+                  "tail-servo capture instead",
     ),
 )
 

@@ -14,6 +14,7 @@ spec can name them and `airwake model add NAME` can fit them.
     fuselage_drag_error  forces        extra drag areas at a centre of pressure
     advance_cyclic       blade_pitch   cyclic trim linear in the in-plane advance ratio
     advance_torque       forces        rotor torque in the advance ratio squared (a yaw couple)
+    yaw_gyro             inputs        the gyro's share of the yaw damping on the inertial rate
 
 Each effect is "off" at its documented parameter values (or when absent); the
 discrepancy workflow (`airwake model diagnose`) knows how to screen and fit each.
@@ -31,16 +32,17 @@ from airwake.heli.effects.catalogue.imu_lever_arm import ImuLeverArm
 from airwake.heli.effects.catalogue.rotor_droop import RotorDroop
 from airwake.heli.effects.catalogue.servo_lag import ServoLag
 from airwake.heli.effects.catalogue.wake_recirculation import WakeRecirculation
+from airwake.heli.effects.catalogue.yaw_gyro import YawGyro
 
 CATALOGUE_EFFECTS = (
     GroundEffect, ImuLeverArm, ServoLag, RotorDroop, DynamicInflow, WakeRecirculation,
     AccelBias, AccelMisalignment, CgOffset, FuselageDragError, AdvanceCyclic,
-    AdvanceTorque,
+    AdvanceTorque, YawGyro,
 )
 
 __all__ = [
     "CATALOGUE_EFFECTS", "AccelBias", "AccelMisalignment", "AdvanceCyclic", "AdvanceTorque",
     "CgOffset",
     "DynamicInflow", "FuselageDragError", "GroundEffect", "ImuLeverArm", "RotorDroop", "ServoLag",
-    "WakeRecirculation",
+    "WakeRecirculation", "YawGyro",
 ]
