@@ -134,7 +134,7 @@ def test_the_effects_gain_gives_the_model_the_airframes_answer_to_the_airs_rotat
     weak = {**found, "slope_us_per_rad_s": -1.0}
     assert effect_gain(base, weak, {"damping_1_s": 0.0, "per_us": PER_US})[
         "gain_rad_per_rad_s"] == pytest.approx(-PER_US)
-    assert effect_gain(base, None, {"damping_1_s": 0.0}) is None
+    assert effect_gain(base, None, {"damping_1_s": 0.0, "per_us": PER_US}) is None
 
 
 def _flight(model: str):
@@ -167,9 +167,6 @@ def test_the_blade_element_airframes_gyro_is_found_and_the_calibration_says_so()
     assert 0.0 < info["aero_damping_1_s"] < info["model_damping_1_s"] + 5.0, info
     assert info["gyro_gain_rad_per_rad_s"] <= info["gain_rad_per_rad_s"] <= 0.0
     assert ("yaw_gyro" in res.model) == (info["gain_rad_per_rad_s"] < 0.0)
-    if "yaw_gyro" in res.model:
-        assert float(res.model["yaw_gyro"].parameters()["gain_rad_per_rad_s"]) == \
-            pytest.approx(info["gain_rad_per_rad_s"])
 
 
 def test_the_effect_truth_flies_no_gyro():

@@ -144,8 +144,8 @@ def _gyro_share(result, gyro: dict, df, cutoff_hz, add: bool) -> None:
     from airwake.calibrate.yaw_gyro import aero_yaw_damping, effect_gain
 
     aero = aero_yaw_damping(df, gyro, cutoff_hz)
-    share = effect_gain(result.model, gyro, aero)
-    if aero is None or share is None:
+    share = None if aero is None else effect_gain(result.model, gyro, aero)
+    if share is None:
         return
     gyro.update(aero_damping_1_s=aero["damping_1_s"], aero_explained=aero["explained"],
                 **share)

@@ -92,12 +92,14 @@ def aero_yaw_damping(df, found: dict | None, cutoff_hz: float | None = 6.0) -> d
     sig = {"servo": servo, **{c: col[c] for c in ("r_rad_s", "delta_col_rad", "vel_u_m_s",
                                                     "vel_v_m_s", "rdot_rad_s2")}}
     if cutoff_hz:
-        from scipy.signal import butter, filtfilt
+        from scipy.signal import butter, sosfiltfilt
+
+        from airwake.estimate.prefilter import FILTER_ORDER
 
         fs = 1.0 / float(np.median(np.diff(col["t_s"])))
-        if cutoff_hz < 0.5 * fs and len(servo) > 30:
-            b, a = butter(2, cutoff_hz / (0.5 * fs))
-            sig = {k: filtfilt(b, a, v) for k, v in sig.items()}
+        if cutoff_hz < 0.45 * fs:  # the estimator's front end, as calibrate's residual
+            sos = butter(FILTER_ORDER, cutoff_hz, fs=fs, output="sos")
+            sig = {k: sosfiltfilt(sos, v) for k, v in sig.items()}
     a = np.column_stack([np.ones_like(servo), sig["servo"], sig["r_rad_s"],
                          sig["delta_col_rad"], sig["vel_v_m_s"], sig["vel_u_m_s"] ** 2])
     y = sig["rdot_rad_s2"]
@@ -137,10 +139,8 @@ def effect_gain(model, found: dict | None, aero: dict | None) -> dict | None:
     b_m = float(model.measure(x, du)[0, 5] - z0) / h
     if not (np.isfinite(n_m) and np.isfinite(b_m)) or b_m <= 0:
         return None
-    gyro = found["slope_us_per_rad_s"] * aero["per_us"] if "per_us" in aero else None
-    g = min(0.0, -(n_m - aero["damping_1_s"]) / b_m)
-    if gyro is not None:
-        g = max(g, min(gyro, 0.0))
+    gyro = found["slope_us_per_rad_s"] * aero["per_us"]
+    g = max(min(0.0, -(n_m - aero["damping_1_s"]) / b_m), min(gyro, 0.0))
     return {"model_damping_1_s": n_m, "model_pedal_1_s2": b_m, "gain_rad_per_rad_s": g,
             "gyro_gain_rad_per_rad_s": gyro}
 

@@ -91,7 +91,7 @@ def _register_plugin(plugin) -> list[str]:
 
 
 def _calibration_after(start_spec, new_model, effect: str, flight, wind,
-                       flight_name: str, misfit_flight=None) -> dict:
+                       flight_name: str, misfit_flight=None, misfit_name: str = "") -> dict:
     """The new spec's [calibration] table: the start spec's, with the effects added since
     and `model_error_std` / `model_error_offset` / `still_air_wind_error` re-measured for
     the new model on the still-air flight it was fitted on (what the wind estimator takes
@@ -102,8 +102,8 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     the model before the effect (the calibration flight is not at hand here; an effect
     that lowers the misfit lowers it, so it errs wide); or none is written.
     `flight_name`: the flight as the report names it. `misfit_flight`: a still-air flight
-    to re-measure them on instead (an effect fitted on steady legs, a floor for flights
-    that manoeuvre as the calibration flight does)."""
+    (read) to re-measure them on instead, named `misfit_name` (an effect fitted on steady
+    legs, a floor for flights that manoeuvre as the calibration flight does)."""
     from airwake.calibrate import CalibrationError, model_error
     from airwake.calibrate.commands import add_still_air_wind_error
     from airwake.estimate.wind import STILL_AIR_BIAS_KEY
@@ -114,7 +114,7 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     # which channel made the old model's still-air wind error says nothing of the new one's
     table.pop(STILL_AIR_BIAS_KEY, None)
     if misfit_flight is not None:
-        flight, flight_name = misfit_flight, str(misfit_flight)
+        flight, flight_name = misfit_flight, misfit_name
     elif wind is not None or isinstance(flight, np.ndarray):
         return table
     try:
@@ -128,16 +128,17 @@ def _calibration_after(start_spec, new_model, effect: str, flight, wind,
     return table
 
 
-def _check_misfit_flight(path) -> None:
-    """A `misfit_on` flight that cannot be read fails before the fit, named (its use: a
-    still-air flight, which the caller vouches for: nothing here can tell the air)."""
+def _load_misfit_flight(path):
+    """The `misfit_on` flight, read before the fit so that one that cannot be read fails
+    first, named (its use: a still-air flight, which the caller vouches for: nothing here
+    can tell the air); the table read is the one the misfit is measured on."""
     from airwake.calibrate import load_flight
     from airwake.errors import AirwakeError
 
     if not Path(str(path)).is_file():
         raise DiscrepancyError(f"misfit flight {path}: no such flight table")
     try:
-        load_flight(str(path))  # as `model_error` reads it after the fit
+        return load_flight(str(path))
     except (AirwakeError, OSError, ValueError) as exc:
         raise DiscrepancyError(f"misfit flight {path}: not a flight table ({exc})") from None
 
@@ -157,8 +158,7 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
     if effect == WIND_CANDIDATE:
         raise DiscrepancyError(f"{WIND_CANDIDATE} is not a model effect: the wind is an input "
                                f"of the model, not part of it; {ADVICE}")
-    if misfit_on is not None:
-        _check_misfit_flight(misfit_on)
+    misfit_flight = None if misfit_on is None else _load_misfit_flight(misfit_on)
     settings = settings or AnalysisSettings()
     start_spec = model
     model = load_model(model)
@@ -216,6 +216,6 @@ def add_effect(model, effect: str, flight, *, plugin=None, retune=(), out=None,
                             f"{effect} fitted on {an.flight.name}",
                             calibration=_calibration_after(start_spec, fr.model, effect,
                                                            flight, wind, an.flight.name,
-                                                           misfit_on))
+                                                           misfit_flight, str(misfit_on)))
     return AddResult(effect, fr.model, fr, before, after, written, None if plugin is None
                      else str(plugin))
