@@ -6,7 +6,8 @@
     jit.py      numba options, kernel marks, `unmanaged` arrays
     cache.py    where compiled code is cached on disk, and when it is stale
     compose.py  one fused, compiled function per effect composition (`compiled(model)`)
-    loops.py    the batch/RK4/simulation/hidden-state loops copied into each composition
+    loops.py    the batch/RK4/simulation/hidden-state loops, compiled once, calling a
+                composition's row through its address
     staged.py   stage-by-stage evaluation for models with numpy effects
 """
 

@@ -1,81 +1,104 @@
-"""Compiled loops over rows and time, one copy per effect composition.
+"""Compiled loops over rows and time, compiled once for every effect composition.
 
-These functions are *templates*: `compose.py` copies their source into each
-generated composition module, where the global `row` is that composition's fused
-single-row evaluation
+A composition is one C-callable function (`compose.py`), its single-row evaluation
 
-    row(q, x, xdot, meas, loads, scratch, u, w, height_agl_m, rotor_speed_rad_s, params,
-        has_load, sensed)
+    row(q, x, xdot, meas, loads, scratch, u, w, height_agl_m, rotor_speed_rad_s, params)
 
-and N_SLOTS, N_LOADS, N_SCRATCH, N_STATES, N_HIDDEN, HIDDEN (indices of the hidden
-states), HAS, SENSED are that composition's constants. They are compiled there with
-`numba.njit(cache=True)`, so each composition gets its own cached machine code. Do not
-call them from here.
+with pointer arguments (the context (N_SLOTS,), states and their rates (S,), measurement
+(6,), loads (E, 6), scratch, inputs (4,), hub wind (6,), the parameters) and the two
+environment floats. The loops here take its address as their first argument and call
+through it (`jit.call_row_at`), so they type and compile once per machine, not once per
+composition (the hidden-state pass alone took ~10 s to compile for each composition, the
+batch and RK4 loops a few seconds). `dims` = (S, E, scratch size) sizes the work arrays;
+`hidden` indexes the hidden states in x.
 
 Broadcast convention: an input array with a leading row axis is read at row `i * stride`
 with stride 1 (one entry per row) or 0 (one entry for all rows).
 """
 
-# ruff: noqa: F821  (row, unmanaged, N_SLOTS, … are globals of the generated module)
-
+import numba
 import numpy as np
 
+from airwake.heli.codegen.jit import JIT_OPTIONS, call_row_at, disk_cached, unmanaged
+from airwake.heli.layout import N_SLOTS
 
-def evaluate_rows(n, c, cs, x, xs, xdot, meas, loads, scratch, u, us, w, ws, hagl, hs,
+
+def _compiled(fn):
+    # cached under the heli fingerprint (cache.KernelCacheLocator): they read the layout
+    return numba.njit(cache=True, **JIT_OPTIONS)(disk_cached(fn))
+
+
+def _inlined(fn):
+    return numba.njit(inline="always", **JIT_OPTIONS)(fn)
+
+
+@_inlined
+def call_row(row, q, x, xdot, meas, loads, scratch, u, w, hagl, omm, params):
+    """One evaluation of the composition's row (`row`: its address)."""
+    call_row_at(row, q, x, xdot, meas, loads, scratch, u, w, hagl, omm, params)
+
+
+@_compiled
+def evaluate_rows(row, n, c, cs, x, xs, xdot, meas, loads, scratch, u, us, w, ws, hagl, hs,
                   omm, oms, params, ps):
     """n rows; c/loads/scratch (1 or n, …) with stride cs (0: reuse one row)."""
     c, x, xdot, meas, loads, scratch = (unmanaged(c), unmanaged(x), unmanaged(xdot),
                                         unmanaged(meas), unmanaged(loads), unmanaged(scratch))
     u, w, params = unmanaged(u), unmanaged(w), unmanaged(params)
     for i in range(n):
-        row(c[i * cs], x[i * xs], xdot[i], meas[i], loads[i * cs], scratch[i * cs],
-            u[i * us], w[i * ws], hagl[i * hs], omm[i * oms], params[i * ps], HAS, SENSED)
+        call_row(row, c[i * cs], x[i * xs], xdot[i], meas[i], loads[i * cs], scratch[i * cs],
+                 u[i * us], w[i * ws], hagl[i * hs], omm[i * oms], params[i * ps])
 
 
-def rk4_one(xi, ui, wi, hi, oi, pi, dt, out, work):
+@_inlined
+def work_arrays(dims):
+    """Per-call buffers of one row: context, loads, scratch, measurement, RK4 stages."""
+    s = dims[0]
+    return (np.empty(N_SLOTS), np.empty((dims[1], 6)), np.empty(dims[2]), np.empty(6),
+            np.empty(s), np.empty(s), np.empty(s), np.empty(s), np.empty(s))
+
+
+@_inlined
+def rk4_one(row, xi, ui, wi, hi, oi, pi, dt, out, work):
     """Classical RK4 step of one row with inputs held over the step, into out (S,)."""
     q, ld, sc, mr, k1, k2, k3, k4, xt = work
-    row(q, xi, k1, mr, ld, sc, ui, wi, hi, oi, pi, HAS, SENSED)
-    for j in range(N_STATES):
+    s = xi.shape[0]
+    call_row(row, q, xi, k1, mr, ld, sc, ui, wi, hi, oi, pi)
+    for j in range(s):
         xt[j] = xi[j] + 0.5 * dt * k1[j]
-    row(q, xt, k2, mr, ld, sc, ui, wi, hi, oi, pi, HAS, SENSED)
-    for j in range(N_STATES):
+    call_row(row, q, xt, k2, mr, ld, sc, ui, wi, hi, oi, pi)
+    for j in range(s):
         xt[j] = xi[j] + 0.5 * dt * k2[j]
-    row(q, xt, k3, mr, ld, sc, ui, wi, hi, oi, pi, HAS, SENSED)
-    for j in range(N_STATES):
+    call_row(row, q, xt, k3, mr, ld, sc, ui, wi, hi, oi, pi)
+    for j in range(s):
         xt[j] = xi[j] + dt * k3[j]
-    row(q, xt, k4, mr, ld, sc, ui, wi, hi, oi, pi, HAS, SENSED)
-    for j in range(N_STATES):
+    call_row(row, q, xt, k4, mr, ld, sc, ui, wi, hi, oi, pi)
+    for j in range(s):
         out[j] = xi[j] + (dt / 6.0) * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
 
 
-def work_arrays():
-    """Per-call buffers of one row: context, loads, scratch, measurement, RK4 stages."""
-    return (np.empty(N_SLOTS), np.empty((N_LOADS, 6)), np.empty(N_SCRATCH), np.empty(6),
-            np.empty(N_STATES), np.empty(N_STATES), np.empty(N_STATES), np.empty(N_STATES),
-            np.empty(N_STATES))
-
-
-def rk4_rows(n, x, xs, u, us, w, ws, hagl, hs, omm, oms, params, ps, dt, out):
+@_compiled
+def rk4_rows(row, dims, n, x, xs, u, us, w, ws, hagl, hs, omm, oms, params, ps, dt, out):
     """One RK4 step for each of n rows: out (n, S)."""
     x, u, w, params, out = unmanaged(x), unmanaged(u), unmanaged(w), unmanaged(params), \
         unmanaged(out)
-    work = work_arrays()
+    work = work_arrays(dims)
     for i in range(n):
-        rk4_one(x[i * xs], u[i * us], w[i * ws], hagl[i * hs], omm[i * oms], params[i * ps],
-                dt, out[i], work)
+        rk4_one(row, x[i * xs], u[i * us], w[i * ws], hagl[i * hs], omm[i * oms],
+                params[i * ps], dt, out[i], work)
 
 
-def simulate_rows(n, x0, xs, steps, dt, every, u, ut, us, w, wt, ws, hagl, ht, hs, omm, ot,
-                  oms, params, ps, xout):
+@_compiled
+def simulate_rows(row, dims, n, x0, xs, steps, dt, every, u, ut, us, w, wt, ws, hagl, ht, hs,
+                  omm, ot, oms, params, ps, xout):
     """Integrate n rows over `steps` RK4 steps; inputs sampled per step: u (T, R, 4) read
     at [k * ut, i * us] (ut, us in {0, 1}), likewise w (T, R, 6), hagl and omm (T, R).
     Keeps every `every`-th state (step 0 included) in xout (steps // every + 1, n, S)."""
     x0, u, w, params, xout = unmanaged(x0), unmanaged(u), unmanaged(w), unmanaged(params), \
         unmanaged(xout)
-    work = work_arrays()
-    xi = np.empty(N_STATES)
-    xn = np.empty(N_STATES)
+    work = work_arrays(dims)
+    xi = np.empty(dims[0])
+    xn = np.empty(dims[0])
     for i in range(n):
         xi[:] = x0[i * xs]
         for k in range(steps + 1):
@@ -83,11 +106,12 @@ def simulate_rows(n, x0, xs, steps, dt, every, u, ut, us, w, wt, ws, hagl, ht, h
                 xout[k // every, i] = xi
             if k == steps:
                 break
-            rk4_one(xi, u[k * ut, i * us], w[k * wt, i * ws], hagl[k * ht, i * hs],
+            rk4_one(row, xi, u[k * ut, i * us], w[k * wt, i * ws], hagl[k * ht, i * hs],
                     omm[k * ot, i * oms], params[i * ps], dt, xn, work)
             xi[:] = xn
 
 
+@_inlined
 def foh_weights(lam, dt):
     """exp(lam dt) and the first-order-hold input weights phi1, phi2 of one mode:
     z(dt) = e z(0) + phi1 b(0) + phi2 (b(dt) - b(0)) solves z' = lam z + b, b linear."""
@@ -105,30 +129,36 @@ def foh_weights(lam, dt):
     return ea, phi1, phi2
 
 
+@_inlined
 def matvec_add(out, a_t, v):
     """out += A v with A given transposed (a_t = A.T): the inner loop runs over the
     independent outputs, so it vectorises without reordering any sum."""
-    for l in range(N_HIDDEN):
+    m = v.shape[0]
+    for l in range(m):
         vl = v[l]
-        for j in range(N_HIDDEN):
+        for j in range(m):
             out[j] += a_t[l, j] * vl
 
 
-def hidden_rates(i, h, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, g, mr, work):
+@_inlined
+def hidden_rates(row, hidden, i, h, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, g, mr,
+                 work):
     """g = f_h - A0 h at sample i with hidden states h; measurement into mr."""
     q, ld, sc, xd = work[0], work[1], work[2], work[4]
+    m = hidden.shape[0]
     xr[:] = x[i]
-    for j in range(N_HIDDEN):
-        xr[HIDDEN[j]] = h[j]
-    row(q, xr, xd, mr, ld, sc, u[i], w[i * ws], hagl[i * hs], omm[i * oms], pk, HAS, SENSED)
-    for j in range(N_HIDDEN):
-        g[j] = xd[HIDDEN[j]]
-    for l in range(N_HIDDEN):
+    for j in range(m):
+        xr[hidden[j]] = h[j]
+    call_row(row, q, xr, xd, mr, ld, sc, u[i], w[i * ws], hagl[i * hs], omm[i * oms], pk)
+    for j in range(m):
+        g[j] = xd[hidden[j]]
+    for l in range(m):
         hl = h[l]
-        for j in range(N_HIDDEN):
+        for j in range(m):
             g[j] -= a0_t[l, j] * hl
 
 
+@_inlined
 def modal_matrix(vr, vi, wr, wi, vir, vii, out_t):
     """out_t = Re(V diag(w) V^-1).T from real and imaginary parts."""
     m = out_t.shape[0]
@@ -143,8 +173,9 @@ def modal_matrix(vr, vi, wr, wi, vir, vii, out_t):
             out_t[l, j] = acc
 
 
-def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec, vinv, a0,
-                h0, scale, tol, max_iter, hout, mout, stats):
+@_compiled
+def hidden_pass(row, dims, hidden, nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps,
+                lam, vec, vinv, a0, h0, scale, tol, max_iter, hout, mout, stats):
     """Hidden states of nk parameter sets along a flight, sample by sample.
 
     Between samples the hidden dynamics h' = A0 h + g(t) are integrated exactly with
@@ -157,10 +188,10 @@ def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec
     linearly, until h moves less than tol * scale; the accepted h is the one evaluated
     last (its measurement goes to mout). stats[k] = (most iterations in a step, largest
     final change, model evaluations)."""
-    m = N_HIDDEN
+    m = hidden.shape[0]
     x, u, w, params = unmanaged(x), unmanaged(u), unmanaged(w), unmanaged(params)
-    work = work_arrays()
-    xr = np.empty(N_STATES)
+    work = work_arrays(dims)
+    xr = np.empty(dims[0])
     mr = np.empty(6)
     gk = np.empty(m)
     gprev = np.empty(m)
@@ -202,7 +233,8 @@ def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec
         for j in range(m):
             hc[j] = h0[kk, j]
             hout[kk, 0, j] = hc[j]
-        hidden_rates(0, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, gk, mr, work)
+        hidden_rates(row, hidden, 0, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, gk, mr,
+                     work)
         mout[kk, 0, :] = mr
         gprev[:] = gk
         for k in range(nt - 1):
@@ -269,8 +301,8 @@ def hidden_pass(nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, params, ps, lam, vec
                         break
                 hc[:] = hn
                 evaluations += 1
-                hidden_rates(k + 1, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk, a0_t, gp, mr,
-                             work)
+                hidden_rates(row, hidden, k + 1, hc, xr, x, u, w, ws, hagl, hs, omm, oms, pk,
+                             a0_t, gp, mr, work)
             # accept the last evaluated state hc (rates gp, measurement mr)
             gprev[:] = gk
             gk[:] = gp
