@@ -86,3 +86,24 @@ class TruthField:
             raise ValueError("a site-frame mean flow of a flight with a moving ship")
         pos = np.asarray(pos_ned_m, dtype=float).reshape(-1, 3)
         return self.field.mean_velocity_ned(0.0, pos)
+
+
+def warm(scenarios=("ship_airwake_b0", "fans_indoor")) -> list[str]:
+    """Compile (or load from numba's cache) the truth fields' code by evaluating the wind of
+    each shipped scenario once (a Dask worker does it when it starts: several workers
+    compiling it at once on one machine only multiply the minutes). Returns the scenarios
+    it evaluated; one that fails to build is skipped (the task that needs it says why)."""
+    from hil_sim.world.scenario import ScenarioError, load_scenario
+
+    done = []
+    for name in scenarios:
+        try:
+            field = TruthField.from_metadata({"scenario_config": load_scenario(name).describe(),
+                                              "seed": 0})
+        except (ScenarioError, ValueError, KeyError, TypeError):
+            continue
+        field.relative_flow(np.array([0.0, 0.01]), np.zeros((2, 3)) + [-5.0, 0.0, -2.0],
+                            np.zeros((2, 3)), "ship" if field.ship is not None else "site")
+        done.append(name)
+    return done
+

@@ -8,7 +8,10 @@ Each worker process runs one task at a time (one thread: the steps are CPU-bound
 numba and scipy, and their BLAS and numba pools are held to one thread too, so N workers
 use N cores without oversubscription). `WarmWorker`, a worker plugin, imports the steps
 and compiles (or loads from the disk cache) the model's numba kernels once when a worker
-starts, not in every task (and torch with the networks' code when a
+starts, not in every task, with the simulator's truth fields (for scoring simulated
+flights); the workers of one machine warm one after another (a lock file), so the first
+compiles what the cache lacks and the others load it (and torch with the networks' code
+when a
 step uses a network: wind estimates by a wind net; no other step imports torch, so other
 campaigns' workers skip its import and memory); a worker that restarts after a crash runs
 it again. Workers of an existing cluster need `airwake` installed and the campaign's
@@ -19,7 +22,9 @@ from __future__ import annotations
 
 import os
 import sys
+import tempfile
 from contextlib import contextmanager
+from pathlib import Path
 
 from distributed import WorkerPlugin
 
@@ -61,14 +66,41 @@ def single_threaded():
             _set_threads(*before)
 
 
+@contextmanager
+def one_process_at_a_time(name: str):
+    """Hold a lock file (per user, in the temp directory) for the block: processes of this
+    machine run it one after another. Without fcntl (not POSIX), no lock."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover — Linux and macOS have it
+        yield
+        return
+    uid = os.getuid() if hasattr(os, "getuid") else "user"
+    with open(Path(tempfile.gettempdir()) / f"{name}-{uid}.lock", "a") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+
+
 def warm(models=("table52",), torch: bool = False) -> dict:
     """Import every step, hold threads to one and compile (or load) the kernels of the
-    given model specs by one model evaluation each; with `torch` (a step uses a network:
-    wind estimates by a wind net) import torch and load the networks' code too. Returns
-    what it did (for logs)."""
+    given model specs by one model evaluation each, and the simulator's truth fields; with
+    `torch` (a step uses a network: wind estimates by a wind net) import torch and load the
+    networks' code too. One process of the machine at a time (`one_process_at_a_time`):
+    compiling the same kernels in every worker at once multiplies the time on shared
+    cores, while after the first the others load them from the disk cache. Returns what
+    it did (for logs)."""
     import time
 
     t0 = time.perf_counter()
+    with one_process_at_a_time("airwake-kernels-warm"):
+        info = _warm(models, torch)
+    return {"seconds": time.perf_counter() - t0, **info}
+
+
+def _warm(models, torch: bool) -> dict:
     if torch:
         import airwake.nets.wind_net  # noqa: F401 — torch and the nets' modules
     limit_threads()
@@ -85,11 +117,14 @@ def warm(models=("table52",), torch: bool = False) -> dict:
     plt.close(fig)
     from airwake.estimate.truth import PROVIDERS
 
+    truths = []
     for name in PROVIDERS:  # the simulator's truth field, for scoring simulated flights
         try:
-            importlib.import_module(name)
+            mod = importlib.import_module(name)
         except ModuleNotFoundError:
-            pass
+            continue
+        if hasattr(mod, "warm"):
+            truths += mod.warm()
     import airwake.calibrate  # noqa: F401
     import airwake.discrepancy.report  # noqa: F401
     import airwake.estimate.map_report  # noqa: F401
@@ -105,7 +140,7 @@ def warm(models=("table52",), torch: bool = False) -> dict:
             continue
         _evaluate_once(model)
         warmed.append(str(spec))
-    return {"seconds": time.perf_counter() - t0, "models": warmed}
+    return {"models": warmed, "truth_scenarios": truths}
 
 
 def _evaluate_once(model) -> None:
