@@ -5,8 +5,7 @@
 - `disk_cached(fn)`: mark a function for the heli kernel cache (`cache.KernelCacheLocator`,
   stamped with the fingerprint of every file of `airwake.heli`), as `@kernel` does.
 - `is_kernel(obj)`: an effect stage written as a compiled kernel (`airwake.heli.kernel`).
-- `unmanaged(a)`: a C-contiguous array without reference counting, for the hot loops;
-  `data_pointer(a)` its first element's address.
+- `unmanaged(a)`: a C-contiguous array without reference counting, for the hot loops.
 - `call_row_at(address, …)`: call a composition's C-callable row through its address.
 - `generated_module(kind, text, ...)`: generated source as a module whose functions are
   compiled and cached on disk like the kernels.
@@ -47,7 +46,7 @@ def is_kernel(obj) -> bool:
 
 
 @intrinsic
-def data_pointer(typingctx, arr):
+def _data_pointer(typingctx, arr):
     """Pointer to a C-contiguous array's first element."""
     sig = types.CPointer(arr.dtype)(arr)
 
@@ -86,7 +85,7 @@ def call_row_at(typingctx, address, q, x, xdot, meas, loads, scratch, u, w, hagl
 def _unmanaged(a):
     """The same C-contiguous array without reference counting: views sliced from it (one
     per effect and row) then cost no atomic increments. The caller keeps `a` alive."""
-    return numba.carray(data_pointer(a), a.shape)
+    return numba.carray(_data_pointer(a), a.shape)
 
 
 unmanaged = numba.njit(cache=True, **JIT_OPTIONS)(_unmanaged)
