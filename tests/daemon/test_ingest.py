@@ -158,9 +158,12 @@ def test_live_pose_is_recorded_near_the_marker(session):
     # the pose EKF runs on the ingest timeline and is recorded for Foxglove/PlotJuggler
     rec = session["rec"]
     poses = [m.json() for m in rec.messages(["/host/pose"])]
-    assert len(poses) > 0.8 * 120 * RUN_S  # one per marker IMU sample once started
     t = np.array([p["t_s"] for p in poses])
     assert np.all(np.diff(t) > 0)
+    # one per marker IMU sample (120 Hz) once started; it starts with the first LOSA fix,
+    # later on a loaded machine, so the count is over the span it ran
+    assert t[-1] - t[0] > 0.5 * RUN_S
+    assert len(poses) > 0.8 * 120 * (t[-1] - t[0])
     sim = sim_of(session, "marker")
     t_board = (t * 1e6 - sim.boot_mono_us) / 1e6  # fake boards: host scale since boot
     pos = np.array([p["pos_tracker_m"] for p in poses])
