@@ -115,10 +115,59 @@ def test_a_parameter_set_that_breaks_the_rotor_is_invalid_not_fatal(model, short
 
 
 def test_streamed_cost_equals_the_rms_of_the_stored_residuals(model, short_flight):
-    # the PSO's cost never stores K x samples predictions; it must mean the same thing
+    # the PSO's cost holds a few sets' predictions at a time; it must mean the same thing
     data = FlightData.from_flight(model, short_flight)
     pred = WindowedPredictor(model, data, make_windows(data, 1.0, 0.5))
-    sets = np.stack([model.parameter_vector(),
-                     model.with_parameters({"rigid_body.Iyy_kg_m2": 1.0}).parameter_vector()])
-    r, _ = pred.residuals(sets)
-    np.testing.assert_allclose(pred.cost(sets), np.sqrt(np.mean(r * r, axis=1)), rtol=1e-12)
+    # more sets than one chunk of the cost's, and an invalid one among them
+    sets = np.stack([model.with_parameters({"rigid_body.Iyy_kg_m2": v}).parameter_vector()
+                     for v in np.linspace(0.2, 1.0, pred.COST_CHUNK + 3)])
+    sets[5, model.parameter_names.index("main_rotor.flap_inertia_kg_m2")] = 0.0
+    r, valid = pred.residuals(sets)
+    cost = pred.cost(sets)
+    assert list(np.nonzero(~np.isfinite(cost))[0]) == [5] and not valid[5]
+    np.testing.assert_allclose(cost[valid], np.sqrt(np.mean(r[valid] ** 2, axis=1)),
+                               rtol=1e-12)
+
+
+def test_one_compiled_pass_is_the_stepped_propagation(model, short_flight):
+    # an all-kernel model predicts every window of every set in one compiled pass
+    # (`windowed_measurements`); it must be the Python stepping's ETD steps, to rounding
+    data = FlightData.from_flight(model, short_flight)
+    pred = WindowedPredictor(model, data, make_windows(data, 1.0, 0.5))
+    sets = np.stack([model.parameter_vector(), model.with_parameters(
+        {"main_rotor.flap_stiffness_nm_rad": 200.0, "rigid_body.Ixx_kg_m2": 0.3}
+    ).parameter_vector()])
+    for wind in (None, np.array([1.0, -0.5, 0.2, 0.0, 0.05, 0.0])):
+        z, valid = pred.predict(sets, wind)
+        assert valid.all()
+        prop = HiddenPropagator(model, data.dt, sets, data.reference_row())
+        np.testing.assert_allclose(z, pred._stepped(prop, sets, wind), rtol=1e-9, atol=1e-11)
+    assert not np.allclose(pred.predict(sets[:1], np.ones(6))[0], z[:1])  # the wind is read
+
+
+def test_a_model_with_numpy_stages_is_stepped_to_the_same_prediction(short_flight):
+    # a user's numpy-style effect cannot run in the compiled pass: the same windows are
+    # stepped in Python, and the kernel-style twin of the effect predicts the same
+    from pathlib import Path
+
+    from airwake.heli import load_plugin, registered_effects
+    from airwake.heli.measurement import windowed_measurements
+
+    load_plugin(Path(__file__).resolve().parents[1] / "heli" / "plugins" / "probe_effects.py")
+    reg = registered_effects()
+    base = load_spec("table51")
+    with_numpy, with_kernel = base + reg["test_probe_numpy"](), base + reg["test_probe_kernel"]()
+    assert not with_numpy.is_compiled and with_kernel.is_compiled
+    out = []
+    for m in (with_numpy, with_kernel):
+        data = FlightData.from_flight(m, short_flight)
+        win = make_windows(data, 1.0, 0.5)
+        prop = HiddenPropagator(m, data.dt, m.parameter_vector()[None], data.reference_row())
+        compiled = windowed_measurements(
+            m, data.x, data.u, data.env, win.idx, m.parameter_vector()[None], prop.h_ref,
+            prop.a_t, np.swapaxes(prop.a_inv, 1, 2), *prop.step_matrices())
+        assert (compiled is None) == (m is with_numpy)
+        z, valid = WindowedPredictor(m, data, win).predict(m.parameter_vector()[None])
+        assert valid.all()
+        out.append(z)
+    np.testing.assert_allclose(out[0], out[1], rtol=1e-9, atol=1e-10)

@@ -101,6 +101,7 @@ class HiddenPropagator:
     """
 
     NEWTON_ITERATIONS = 5
+    QUASI_STEADY_ITERATIONS = 4  # Newton steps to a window's / filter's quasi-steady start
     # `valid` (K,): False for a parameter set whose rotor dynamics could not be linearised
     # (non-finite or singular Jacobian); its rows still run, on a stand-in A = -I.
 
@@ -199,7 +200,13 @@ class HiddenPropagator:
         g = f - np.matmul(h, self._a_t)
         return g, f, z.reshape(k, r, 6)
 
-    def quasi_steady(self, h: np.ndarray, rows: RowBatch, params_rows, iterations: int = 4):
+    @property
+    def a_t(self) -> np.ndarray:
+        """A^T per set (K, m, m), C-contiguous."""
+        return self._a_t
+
+    def quasi_steady(self, h: np.ndarray, rows: RowBatch, params_rows,
+                     iterations: int = QUASI_STEADY_ITERATIONS):
         """Newton steps towards f_h = 0 at the rows (start of a window / of a filter)."""
         a_inv_t = np.swapaxes(self.a_inv, 1, 2)
         for _ in range(iterations):

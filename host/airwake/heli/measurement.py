@@ -37,6 +37,8 @@ from scipy.signal import lfilter
 from airwake.heli.context import MEAS_CHANNELS
 from airwake.heli.model import INPUT_NAMES, HeliModel, _plain
 
+_NO_WIND_ROW = np.zeros((1, 6))
+
 
 @dataclass
 class FlightArrays:
@@ -386,6 +388,41 @@ def predict_measurements(
     x[:, _hidden_index(model)] = h
     z = model.measure(x, fa.u, w, fa.env, params)
     return (z, hidden) if return_hidden else z
+
+
+def windowed_measurements(model: HeliModel, x, u, env, idx, params, h_ref, a_t, a_inv_t,
+                          e_t, p1_t, p2_t, wind=None, newton: int = 4):
+    """Predicted measurement (K, W, L, 6) of K parameter sets over the windows idx (W, L)
+    of a flight, the hidden states propagated along each window by the calibration's
+    exponential time differencing (`airwake.calibrate.hidden.HiddenPropagator`: its
+    reference states h_ref (K, m) and its matrices, each (K, m, m) and transposed: A^T,
+    (A^-1)^T, E^T, (Phi1 + Phi2/dt)^T, (Phi2/dt)^T), in one compiled pass; None for a
+    model with numpy stages (the caller steps it in Python).
+
+    x (N, S) with the body states filled, u (N, 4), env {name: (N,)}, params (K, P),
+    wind None (still air) or one (6,) wind for every row."""
+    if not model.is_compiled:
+        return None
+    pm = model._param_matrix(params)
+    k = pm.shape[0]
+    idx = np.ascontiguousarray(idx, dtype=np.int64)
+    w = _NO_WIND_ROW if wind is None else np.asarray(wind, dtype=float).reshape(1, 6)
+    a = model._rows(x[:1], u[:1], w, {n: v[:1] for n, v in env.items()}, None)
+    hagl = _plain(np.asarray(env["height_agl_m"], dtype=float)) if "height_agl_m" in env \
+        else a.h
+    omm = _plain(np.asarray(env["rotor_speed_rad_s"], dtype=float)) \
+        if "rotor_speed_rad_s" in env else a.om
+    z = np.empty((k, idx.shape[0], idx.shape[1], 6))
+
+    def mats(m):
+        return np.ascontiguousarray(m, dtype=float)
+
+    model.compiled.fns.windows_pass(
+        k, idx, _plain(np.asarray(x, dtype=float)), _plain(np.asarray(u, dtype=float)),
+        _plain(w), 0, hagl, int(hagl.size > 1), omm, int(omm.size > 1), _plain(pm),
+        int(k > 1), mats(h_ref), mats(a_t), mats(a_inv_t), mats(e_t), mats(p1_t),
+        mats(p2_t), int(newton), z)
+    return z
 
 
 CHANNELS = MEAS_CHANNELS

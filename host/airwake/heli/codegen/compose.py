@@ -256,6 +256,7 @@ def _build(model) -> Compiled:
         rk4_rows=partial(loops.rk4_rows, row, dims),
         simulate_rows=partial(loops.simulate_rows, row, dims),
         hidden_pass=partial(loops.hidden_pass, row, dims, hidden),
+        windows_pass=partial(loops.windows_pass, row, dims, hidden),
     )
     return Compiled(True, [], has, sensed, src.n_scratch, src.scratch, fns,
                     Path(module.__file__))

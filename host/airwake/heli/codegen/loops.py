@@ -316,3 +316,81 @@ def hidden_pass(row, dims, hidden, nk, nt, t, x, u, w, ws, hagl, hs, omm, oms, p
         stats[kk, 0] = worst_it
         stats[kk, 1] = worst_change
         stats[kk, 2] = evaluations
+
+
+@_compiled
+def windows_pass(row, dims, hidden, nk, idx, x, u, w, ws, hagl, hs, omm, oms, params, ps,
+                 h_ref, a_t, a_inv_t, e_t, p1_t, p2_t, newton, zout):
+    """Predicted measurement of nk parameter sets over W windows of a flight, the hidden
+    states propagated along each window by exponential time differencing in PEC mode (the
+    calibration's `airwake.calibrate.hidden.HiddenPropagator`, step for step):
+
+        start   h = h_ref, then `newton` steps h -= A^-1 f_h(h) at the window's first row
+        predict h^p = E h + (Phi1 + Phi2/dt) g - (Phi2/dt) g_prev
+        evaluate g_new = f_h(h^p) - A h^p and z at the next row
+        correct h = h^p + (Phi2/dt) (g_new - 2 g + g_prev)
+
+    idx (W, L) flight rows; x (N, S) with the body states filled; per set k: h_ref[k] (m,)
+    and the matrices given transposed (a_t = A^T, ...; (K, m, m)). zout (K, W, L, 6).
+    One model call site (the row is inlined there): stage s < newton is a Newton step,
+    s = newton the window's first sample, then one stage per sample."""
+    m = hidden.shape[0]
+    n_win, length = idx.shape
+    x, u, w, params = unmanaged(x), unmanaged(u), unmanaged(w), unmanaged(params)
+    q, ld, sc, mr, xd = work_arrays(dims)[:5]
+    xr = np.empty(dims[0])
+    h = np.empty(m)
+    hp = np.empty(m)
+    g = np.empty(m)
+    gprev = np.empty(m)
+    gnew = np.empty(m)
+    d = np.empty(m)
+    for kk in range(nk):
+        pk = params[kk * ps]
+        at, ait, et, p1, p2 = a_t[kk], a_inv_t[kk], e_t[kk], p1_t[kk], p2_t[kk]
+        for wi in range(n_win):
+            h[:] = h_ref[kk]
+            for s in range(newton + length):
+                jj = s - newton  # the window's sample, once past the Newton steps
+                if jj <= 0:
+                    i = idx[wi, 0]
+                    hp[:] = h
+                else:  # predict
+                    i = idx[wi, jj]
+                    hp[:] = 0.0
+                    matvec_add(hp, et, h)
+                    matvec_add(hp, p1, g)
+                    for l in range(m):
+                        gl = gprev[l]
+                        for j in range(m):
+                            hp[j] -= p2[l, j] * gl
+                xr[:] = x[i]
+                for j in range(m):
+                    xr[hidden[j]] = hp[j]
+                call_row(row, q, xr, xd, mr, ld, sc, u[i], w[i * ws], hagl[i * hs],
+                         omm[i * oms], pk)
+                if jj < 0:  # Newton: h -= A^-1 f
+                    d[:] = 0.0
+                    for j in range(m):
+                        gnew[j] = xd[hidden[j]]
+                    matvec_add(d, ait, gnew)
+                    for j in range(m):
+                        h[j] -= d[j]
+                    continue
+                for j in range(m):  # g = f - A h at the evaluated state
+                    gnew[j] = xd[hidden[j]]
+                for l in range(m):
+                    hl = hp[l]
+                    for j in range(m):
+                        gnew[j] -= at[l, j] * hl
+                zout[kk, wi, max(jj, 0), :] = mr
+                if jj == 0:
+                    g[:] = gnew
+                    gprev[:] = gnew
+                    continue
+                for j in range(m):  # correct
+                    d[j] = gnew[j] - 2.0 * g[j] + gprev[j]
+                h[:] = hp
+                matvec_add(h, p2, d)
+                gprev[:] = g
+                g[:] = gnew
