@@ -40,6 +40,29 @@ def load_flight(flight):
     return flight
 
 
+def _one_blas_thread(fn):
+    """Run `fn` with BLAS on one thread: a fit is then the same to the bit on any machine
+    and after whatever the process ran before. A multi-threaded BLAS sums in an order that
+    depends on its thread count, and the least-squares path drifts with the last bits
+    (its Jacobian is a finite difference): before this, the first calibration of a
+    process ran scipy's BLAS (loaded on first use, after the residuals' one-thread limit
+    was set up) on two threads and every later one on one, 0.6 % apart in a fitted
+    inertia, and a campaign run twice in one process stored two different models for
+    one content address. `single_blas_thread` lives in a module that imports
+    scipy.linalg, so its BLAS is loaded before the limit applies."""
+    import functools
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from airwake.calibrate.hidden import single_blas_thread
+
+        with single_blas_thread():
+            return fn(*args, **kwargs)
+
+    return wrapper
+
+
+@_one_blas_thread
 def calibrate(flight, model="table51", method: str = "lsq", params=None, *,
               window_s: float = 2.0, warmup_s: float = 1.0, max_windows: int | None = None,
               seed: int = 0, particles: int = 2000, iterations: int = 500,

@@ -15,8 +15,9 @@ are not scored (the rotor/flybar transients decay, slowest ~8 1/s), then scores
 gaps), so the first `warmup` samples of each run are the only ones never scored. An
 all-kernel model runs every window of every parameter set in one compiled pass
 (`airwake.heli.measurement.windowed_measurements`; `calibrate` on the demo's 20 s
-calibration flight: 39 s stepped in Python, 28 s so); a model with numpy stages advances all windows of all
-sets together in Python, one model evaluation of K x W rows per time step.
+calibration flight: 39 s stepped in Python, 28 s so); a model with numpy stages
+advances all windows of all sets together in Python, one model evaluation of K x W rows
+per time step.
 
 Channel weighting: each channel is divided by its noise scale s_c, estimated from the
 measured signal's second differences, s_c = 1.4826 MAD(z[n+1] - 2 z[n] + z[n-1]) / sqrt(6)
