@@ -10,8 +10,8 @@ from airwake.daemon.fake_boards import BoardSim, FakeBoard, Faults
 from airwake.record.reader import open_recording
 from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
-# timed against the wall clock with real processes: `make test` runs these alone, after
-# the parallel suite, so CPU-heavy tests on the other worker cannot starve them
+# timed against the wall clock with real processes: `make test` runs these after the
+# parallel suite (two at a time), so CPU-heavy tests on the other worker cannot starve them
 pytestmark = pytest.mark.wall_clock
 
 BAD_KINDS = ("crc_error", "cobs_error", "unknown_id", "def_mismatch", "oversize")

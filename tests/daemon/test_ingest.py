@@ -19,8 +19,8 @@ from airwake.record.reader import open_recording
 from airwake.tracking.losa import triangulate
 from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 
-# timed against the wall clock with real processes: `make test` runs these alone, after
-# the parallel suite, so CPU-heavy tests on the other worker cannot starve them
+# timed against the wall clock with real processes: `make test` runs these after the
+# parallel suite (two at a time), so CPU-heavy tests on the other worker cannot starve them
 pytestmark = pytest.mark.wall_clock
 
 RUN_S = 7.0

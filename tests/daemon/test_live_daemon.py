@@ -16,7 +16,8 @@ from airwake.record.reader import open_recording
 from daemon_harness import DaemonRun, close_boards, halt_and_drain, recorded_frames, sent_frames
 from live_clients import EventStream, FoxgloveClient, free_port, get, http, stalled_stream
 
-# timed against the wall clock with real processes: `make test` runs these alone
+# timed against the wall clock with real processes: `make test` runs these after the
+# parallel suite (two at a time)
 pytestmark = pytest.mark.wall_clock
 
 ROLES = ["losa", "marker", "base"]
