@@ -6,6 +6,8 @@ import pytest
 from airwake.tracking.errors import TrackingError
 from airwake.tracking.pose_ekf import PoseEkf, run_pose_ekf
 from airwake.tracking.smoother import rts_smooth
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from tests.tracking.sim_data import simulate_flight, start_ekf
 from tests.tracking.test_pose_ekf import _attitude_error_deg, _led_errors_m
@@ -45,3 +47,25 @@ def test_smoothing_needs_the_recorded_history():
     ekf = PoseEkf(0.0, (0.0, 0.0, 3.0), (1.0, 0.0, 0.0, 0.0))
     with pytest.raises(TrackingError, match="record_history=True"):
         rts_smooth(ekf)
+
+
+@settings(max_examples=300)
+@given(st.lists(st.floats(-1.0, 1.0), min_size=4, max_size=4),
+       st.floats(-14.0, 0.0))
+def test_quaternion_log_is_the_rotation_vector(v, log_scale):
+    # the smoother's attitude difference: scipy's rotation vector (angle in [0, pi]), for
+    # large rotations, tiny ones (the series branch) and either sign of q
+    from airwake.tracking.pose_ekf import quat_exp
+    from airwake.tracking.smoother import _quat_log
+    from scipy.spatial.transform import Rotation
+
+    q = np.array(v, dtype=float)
+    q[1:] *= 10.0 ** log_scale
+    assume(np.linalg.norm(q) > 1e-3 and abs(q[0]) > 1e-3)
+    q /= np.linalg.norm(q)
+    got = _quat_log(q)
+    ref = Rotation.from_quat([q[1], q[2], q[3], q[0]]).as_rotvec()
+    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-15)
+    assert np.linalg.norm(got) <= np.pi + 1e-12
+    back = quat_exp(got)
+    np.testing.assert_allclose(back * np.sign(back[0] * q[0]), q, atol=1e-12)
