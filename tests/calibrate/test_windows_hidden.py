@@ -165,7 +165,7 @@ def test_a_model_with_numpy_stages_is_stepped_to_the_same_prediction(short_fligh
         prop = HiddenPropagator(m, data.dt, m.parameter_vector()[None], data.reference_row())
         compiled = windowed_measurements(
             m, data.x, data.u, data.env, win.idx, m.parameter_vector()[None], prop.h_ref,
-            prop.a_t, np.swapaxes(prop.a_inv, 1, 2), *prop.step_matrices())
+            prop.a_t, prop.a_inv_t, *prop.step_matrices())
         assert (compiled is None) == (m is with_numpy)
         z, valid = WindowedPredictor(m, data, win).predict(m.parameter_vector()[None])
         assert valid.all()

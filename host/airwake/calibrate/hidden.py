@@ -205,10 +205,15 @@ class HiddenPropagator:
         """A^T per set (K, m, m), C-contiguous."""
         return self._a_t
 
+    @property
+    def a_inv_t(self) -> np.ndarray:
+        """(A^-1)^T per set (K, m, m): the quasi-steady Newton step's matrix."""
+        return np.swapaxes(self.a_inv, 1, 2)
+
     def quasi_steady(self, h: np.ndarray, rows: RowBatch, params_rows,
                      iterations: int = QUASI_STEADY_ITERATIONS):
         """Newton steps towards f_h = 0 at the rows (start of a window / of a filter)."""
-        a_inv_t = np.swapaxes(self.a_inv, 1, 2)
+        a_inv_t = self.a_inv_t
         for _ in range(iterations):
             _, f, _ = self.evaluate(h, rows, params_rows)
             h = h - np.matmul(f, a_inv_t)

@@ -243,7 +243,7 @@ class WindowedPredictor:
                 with np.errstate(all="ignore"):
                     z = windowed_measurements(
                         model, data.x, data.u, data.env, win.idx, sets, prop.h_ref,
-                        prop.a_t, np.swapaxes(prop.a_inv, 1, 2), e_t, p1_t, p2_t,
+                        prop.a_t, prop.a_inv_t, e_t, p1_t, p2_t,
                         wind=wind, newton=prop.QUASI_STEADY_ITERATIONS)
             if z is None:
                 z = self._stepped(prop, sets, wind)

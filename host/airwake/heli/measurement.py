@@ -37,8 +37,6 @@ from scipy.signal import lfilter
 from airwake.heli.context import MEAS_CHANNELS
 from airwake.heli.model import INPUT_NAMES, HeliModel, _plain
 
-_NO_WIND_ROW = np.zeros((1, 6))
-
 
 @dataclass
 class FlightArrays:
@@ -406,12 +404,8 @@ def windowed_measurements(model: HeliModel, x, u, env, idx, params, h_ref, a_t, 
     pm = model._param_matrix(params)
     k = pm.shape[0]
     idx = np.ascontiguousarray(idx, dtype=np.int64)
-    w = _NO_WIND_ROW if wind is None else np.asarray(wind, dtype=float).reshape(1, 6)
-    a = model._rows(x[:1], u[:1], w, {n: v[:1] for n, v in env.items()}, None)
-    hagl = _plain(np.asarray(env["height_agl_m"], dtype=float)) if "height_agl_m" in env \
-        else a.h
-    omm = _plain(np.asarray(env["rotor_speed_rad_s"], dtype=float)) \
-        if "rotor_speed_rad_s" in env else a.om
+    w = None if wind is None else np.asarray(wind, dtype=float).reshape(1, 6)
+    a = model._rows(x[:1], u[:1], w, env, None)  # the environment arrays, or one default
     z = np.empty((k, idx.shape[0], idx.shape[1], 6))
 
     def mats(m):
@@ -419,9 +413,9 @@ def windowed_measurements(model: HeliModel, x, u, env, idx, params, h_ref, a_t, 
 
     model.compiled.fns.windows_pass(
         k, idx, _plain(np.asarray(x, dtype=float)), _plain(np.asarray(u, dtype=float)),
-        _plain(w), 0, hagl, int(hagl.size > 1), omm, int(omm.size > 1), _plain(pm),
-        int(k > 1), mats(h_ref), mats(a_t), mats(a_inv_t), mats(e_t), mats(p1_t),
-        mats(p2_t), int(newton), z)
+        a.w, 0, a.h, int(a.h.size > 1), a.om, int(a.om.size > 1), _plain(pm), int(k > 1),
+        mats(h_ref), mats(a_t), mats(a_inv_t), mats(e_t), mats(p1_t), mats(p2_t),
+        int(newton), z)
     return z
 
 
